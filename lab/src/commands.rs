@@ -1,0 +1,224 @@
+//! The computations behind the sub-commands.
+//!
+//! * [`breakaway_rows`]: MODEL.md §4 quasi-static break-away per variant and
+//!   `k`, plus optionally the full dynamics (computed once per `k`: it does not
+//!   depend on the variant).
+//! * [`validity_map`]: the same against the full dynamics over masses, with
+//!   the inertia number [`inertia_number`] (MODEL.md §4) and [`pi_number`]
+//!   (MODEL.md §8).
+
+use crate::reference::{self, Model, Variant};
+use crate::Error;
+use std::path::Path;
+
+/// Loads and checks a model file (MODEL.md §7). The break-away analysis needs
+/// presliding, so `z_max = 0` (allowed in files) is refused here.
+pub fn load_model(path: &Path) -> Result<Model, Error> {
+    let model = Model::load(path).map_err(|e| {
+        let msg = e.to_string();
+        // Name the file even if the reference's message does not.
+        let shown = path.display().to_string();
+        if msg.contains(&shown) {
+            Error::Runtime(msg)
+        } else {
+            Error::Runtime(format!("model file {shown}: {msg}"))
+        }
+    })?;
+    if !(model.z_max > 0.0) {
+        return Err(Error::Runtime(format!(
+            "model file {}: key `z_max`: break-away needs presliding, z_max > 0 (MODEL.md §4), got {}",
+            path.display(),
+            model.z_max
+        )));
+    }
+    Ok(model)
+}
+
+/// The full-dynamics break-away (MODEL.md §4, last paragraph).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Dynamic {
+    /// Actuation force `k·t` when `w` reaches `w_b` [N].
+    pub f_ba: f64,
+    /// That instant [s].
+    pub t_ba: f64,
+}
+
+/// One row of `breakaway`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BreakawayRow {
+    /// The `F̂` variant.
+    pub variant: Variant,
+    /// Force rate [N/s].
+    pub k: f64,
+    /// Break-away velocity [m/s].
+    pub v_b: f64,
+    /// Break-away force [N].
+    pub f_ba: f64,
+    /// Predicted time of break-away [s].
+    pub t_ba: f64,
+    /// Full dynamics, with `--dynamic`.
+    pub dynamic: Option<Dynamic>,
+}
+
+fn predict(m: &Model, v: Variant, k: f64, w_b: f64) -> Result<reference::BreakAway, Error> {
+    reference::predict_break_away(m, v, k, w_b)
+        .map_err(|e| Error::Runtime(format!("{} at k = {k}: {e}", v.name())))
+}
+
+fn simulate(m: &Model, k: f64, w_b: f64) -> Result<Dynamic, Error> {
+    let d = reference::simulate_break_away(m, k, w_b).map_err(|e| {
+        Error::Runtime(format!(
+            "full-dynamics simulation at m = {}, k = {k}: {e}",
+            m.mass
+        ))
+    })?;
+    Ok(Dynamic {
+        f_ba: d.f_ba,
+        t_ba: d.t_ba,
+    })
+}
+
+/// The rows of `breakaway`, grouped by variant (in the order given), then by
+/// `k` (in the order given).
+pub fn breakaway_rows(
+    model: &Model,
+    ks: &[f64],
+    variants: &[Variant],
+    w_b: f64,
+    dynamic: bool,
+) -> Result<Vec<BreakawayRow>, Error> {
+    let sims = if dynamic {
+        ks.iter()
+            .map(|&k| simulate(model, k, w_b).map(Some))
+            .collect::<Result<Vec<_>, _>>()?
+    } else {
+        vec![None; ks.len()]
+    };
+    let mut rows = Vec::with_capacity(variants.len() * ks.len());
+    for &variant in variants {
+        for (&k, &dynamic) in ks.iter().zip(&sims) {
+            let p = predict(model, variant, k, w_b)?;
+            rows.push(BreakawayRow {
+                variant,
+                k,
+                v_b: p.v_b,
+                f_ba: p.f_ba,
+                t_ba: p.t_ba,
+                dynamic,
+            });
+        }
+    }
+    Ok(rows)
+}
+
+/// `F̂ = (Fc + Fs)/2`, the paper's `F̂_ss`.
+fn f_mean(m: &Model) -> f64 {
+    0.5 * (m.fc + m.fs)
+}
+
+/// The inertia number of MODEL.md §4,
+/// `Λ = m·k²·z_max / (F̂³·w_b·|ln w_b|³)` with `F̂ = (Fc + Fs)/2`: the
+/// quasi-static step needs `Λ ≪ 1`.
+pub fn inertia_number(m: &Model, k: f64, w_b: f64) -> f64 {
+    m.mass * k * k * m.z_max / (f_mean(m).powi(3) * w_b * w_b.ln().abs().powi(3))
+}
+
+/// The force rate at which [`inertia_number`] is 1.
+pub fn k_unit_inertia(m: &Model, w_b: f64) -> f64 {
+    (f_mean(m).powi(3) * w_b * w_b.ln().abs().powi(3) / (m.mass * m.z_max)).sqrt()
+}
+
+/// MODEL.md §8: `Π = √(2·Fs·z_max/m)/V`; rests are quiet below about 5,
+/// self-excited presliding may appear from about 10.
+pub fn pi_number(m: &Model) -> f64 {
+    (2.0 * m.fs * m.z_max / m.mass).sqrt() / m.v_stribeck
+}
+
+/// One quasi-static prediction against the dynamics.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Compared {
+    /// The `F̂` variant.
+    pub variant: Variant,
+    /// Quasi-static break-away force [N].
+    pub f_ba: f64,
+    /// Relative drift `(f_ba − f_ba_sim)/f_ba_sim`.
+    pub drift: f64,
+}
+
+/// One `(m, k)` point of the validity map.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ValidityPoint {
+    /// Force rate [N/s].
+    pub k: f64,
+    /// Inertia number `Λ` (MODEL.md §4).
+    pub lambda: f64,
+    /// Full dynamics.
+    pub sim: Dynamic,
+    /// The quasi-static predictions, in the order of the variants asked for.
+    pub compared: Vec<Compared>,
+}
+
+impl ValidityPoint {
+    /// The largest `|drift|` over the variants compared.
+    pub fn worst_drift(&self) -> f64 {
+        self.compared
+            .iter()
+            .map(|c| c.drift.abs())
+            .fold(0.0, f64::max)
+    }
+}
+
+/// All `k` points of one mass.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ValidityBlock {
+    /// Mass [kg].
+    pub mass: f64,
+    /// `Π` of MODEL.md §8 for this mass.
+    pub pi: f64,
+    /// `k` at which `Λ = 1`.
+    pub k_unit_inertia: f64,
+    /// The points, in the order of the `k` given.
+    pub points: Vec<ValidityPoint>,
+}
+
+/// Sweeps masses × force rates: the model's `mass` is replaced by each mass.
+pub fn validity_map(
+    model: &Model,
+    masses: &[f64],
+    ks: &[f64],
+    variants: &[Variant],
+    w_b: f64,
+) -> Result<Vec<ValidityBlock>, Error> {
+    let mut blocks = Vec::with_capacity(masses.len());
+    for &mass in masses {
+        let mut m = model.clone();
+        m.mass = mass;
+        let mut points = Vec::with_capacity(ks.len());
+        for &k in ks {
+            let sim = simulate(&m, k, w_b)?;
+            let compared = variants
+                .iter()
+                .map(|&variant| {
+                    predict(&m, variant, k, w_b).map(|p| Compared {
+                        variant,
+                        f_ba: p.f_ba,
+                        drift: (p.f_ba - sim.f_ba) / sim.f_ba,
+                    })
+                })
+                .collect::<Result<Vec<_>, _>>()?;
+            points.push(ValidityPoint {
+                k,
+                lambda: inertia_number(&m, k, w_b),
+                sim,
+                compared,
+            });
+        }
+        blocks.push(ValidityBlock {
+            mass,
+            pi: pi_number(&m),
+            k_unit_inertia: k_unit_inertia(&m, w_b),
+            points,
+        });
+    }
+    Ok(blocks)
+}

@@ -1,0 +1,226 @@
+//! Output: aligned text tables and JSON.
+//!
+//! JSON numbers are written by `serde_json` (shortest round-trip `f64`, so full
+//! precision); a non-finite number would be written as `null`. Objects keep
+//! the key order documented in the `--help` text and MODEL.md §4 names.
+
+use crate::commands::{BreakawayRow, ValidityBlock};
+use crate::reference::Variant;
+use std::fmt::Write as _;
+
+/// `x` with `sig` significant digits, trailing zeros trimmed (like C's `%g`).
+pub fn short(x: f64, sig: usize) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return format!("{x}");
+    }
+    let exp = x.abs().log10().floor();
+    if (-4.0..15.0).contains(&exp) {
+        let decimals = (sig as f64 - 1.0 - exp).max(0.0) as usize;
+        let s = format!("{x:.decimals$}");
+        if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            s
+        }
+    } else {
+        format!("{x:.prec$e}", prec = sig.saturating_sub(1))
+    }
+}
+
+/// Renders rows as a table: a header line, then right-aligned columns
+/// separated by two spaces (the first column left-aligned).
+pub fn table(header: &[&str], rows: &[Vec<String>]) -> String {
+    let mut widths: Vec<usize> = header.iter().map(|h| h.chars().count()).collect();
+    for row in rows {
+        for (w, cell) in widths.iter_mut().zip(row) {
+            *w = (*w).max(cell.chars().count());
+        }
+    }
+    let mut out = String::new();
+    let line = |out: &mut String, cells: &mut dyn Iterator<Item = &str>| {
+        let mut first = true;
+        let mut s = String::new();
+        for (i, cell) in cells.enumerate() {
+            let pad = widths[i].saturating_sub(cell.chars().count());
+            if !first {
+                s.push_str("  ");
+            }
+            if i == 0 {
+                s.push_str(cell);
+                s.extend(std::iter::repeat_n(' ', pad));
+            } else {
+                s.extend(std::iter::repeat_n(' ', pad));
+                s.push_str(cell);
+            }
+            first = false;
+        }
+        out.push_str(s.trim_end());
+        out.push('\n');
+    };
+    line(&mut out, &mut header.iter().copied());
+    for row in rows {
+        line(&mut out, &mut row.iter().map(String::as_str));
+    }
+    out
+}
+
+/// A JSON number (full precision) or `null` if not finite.
+fn num(x: f64) -> String {
+    serde_json::Value::from(x).to_string()
+}
+
+/// A JSON object from pre-rendered values, keys in the order given.
+fn object(fields: &[(&str, String)]) -> String {
+    let body: Vec<String> = fields
+        .iter()
+        .map(|(k, v)| format!("{}:{v}", serde_json::Value::from(*k)))
+        .collect();
+    format!("{{{}}}", body.join(","))
+}
+
+/// A JSON array, one element per line.
+fn array(items: &[String]) -> String {
+    if items.is_empty() {
+        return "[]\n".to_string();
+    }
+    format!("[\n  {}\n]\n", items.join(",\n  "))
+}
+
+/// `breakaway` as a table.
+pub fn breakaway_table(rows: &[BreakawayRow], dynamic: bool) -> String {
+    let mut header = vec!["variant", "k [N/s]", "v_b [m/s]", "F_ba [N]", "t_ba [s]"];
+    if dynamic {
+        header.extend(["F_ba_sim [N]", "t_ba_sim [s]"]);
+    }
+    let cells: Vec<Vec<String>> = rows
+        .iter()
+        .map(|r| {
+            let mut c = vec![
+                r.variant.name().to_string(),
+                short(r.k, 6),
+                format!("{:.4e}", r.v_b),
+                format!("{:.6}", r.f_ba),
+                format!("{:.6}", r.t_ba),
+            ];
+            if let Some(d) = r.dynamic {
+                c.push(format!("{:.6}", d.f_ba));
+                c.push(format!("{:.6}", d.t_ba));
+            }
+            c
+        })
+        .collect();
+    table(&header, &cells)
+}
+
+/// `breakaway --json`: keys `variant`, `k`, `v_b`, `f_ba`, `t_ba` and with
+/// `--dynamic` `f_ba_sim`, `t_ba_sim`.
+pub fn breakaway_json(rows: &[BreakawayRow]) -> String {
+    let items: Vec<String> = rows
+        .iter()
+        .map(|r| {
+            let mut f = vec![
+                (
+                    "variant",
+                    serde_json::Value::from(r.variant.name()).to_string(),
+                ),
+                ("k", num(r.k)),
+                ("v_b", num(r.v_b)),
+                ("f_ba", num(r.f_ba)),
+                ("t_ba", num(r.t_ba)),
+            ];
+            if let Some(d) = r.dynamic {
+                f.push(("f_ba_sim", num(d.f_ba)));
+                f.push(("t_ba_sim", num(d.t_ba)));
+            }
+            object(&f)
+        })
+        .collect();
+    array(&items)
+}
+
+/// The band of a relative drift: `ok` below 1 %, `>1%`, `>10%`.
+pub fn band(drift: f64) -> &'static str {
+    let d = drift.abs();
+    if d < 0.01 {
+        "ok"
+    } else if d < 0.1 {
+        ">1%"
+    } else {
+        ">10%"
+    }
+}
+
+/// `validity-map` as one table per mass, each headed by `Π` and `k(Λ = 1)`.
+pub fn validity_table(blocks: &[ValidityBlock], variants: &[Variant], w_b: f64) -> String {
+    let mut header: Vec<String> = vec!["k [N/s]".into(), "Λ".into(), "F_ba_sim [N]".into()];
+    for v in variants {
+        header.push(format!("F_{} [N]", v.name()));
+        header.push(format!("drift_{}", v.name()));
+    }
+    header.push("worst".into());
+    let header: Vec<&str> = header.iter().map(String::as_str).collect();
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "# drift = (F_ba - F_ba_sim)/F_ba_sim; worst: ok < 1 % <= >1% < 10 % <= >10%; w_b = {w_b}"
+    );
+    for b in blocks {
+        let _ = writeln!(
+            out,
+            "\n# m = {} kg: Π = sqrt(2*Fs*z_max/m)/V = {}; Λ = 1 at k = {} N/s",
+            short(b.mass, 6),
+            short(b.pi, 4),
+            short(b.k_unit_inertia, 4)
+        );
+        let cells: Vec<Vec<String>> = b
+            .points
+            .iter()
+            .map(|p| {
+                let mut c = vec![
+                    short(p.k, 6),
+                    short(p.lambda, 4),
+                    format!("{:.6}", p.sim.f_ba),
+                ];
+                for cmp in &p.compared {
+                    c.push(format!("{:.6}", cmp.f_ba));
+                    c.push(format!("{:+.3}%", 100.0 * cmp.drift));
+                }
+                c.push(band(p.worst_drift()).to_string());
+                c
+            })
+            .collect();
+        out.push_str(&table(&header, &cells));
+    }
+    out
+}
+
+/// `validity-map --json`: one object per `(m, k)` with keys `m`, `pi`, `k`,
+/// `lambda`, `f_ba_sim`, `t_ba_sim` and `variants`, an object
+/// `{variant: {"f_ba": …, "drift": …}}` (drift relative, not in %).
+pub fn validity_json(blocks: &[ValidityBlock]) -> String {
+    let mut items = Vec::new();
+    for b in blocks {
+        for p in &b.points {
+            let variants: Vec<(&str, String)> = p
+                .compared
+                .iter()
+                .map(|c| {
+                    (
+                        c.variant.name(),
+                        object(&[("f_ba", num(c.f_ba)), ("drift", num(c.drift))]),
+                    )
+                })
+                .collect();
+            items.push(object(&[
+                ("m", num(b.mass)),
+                ("pi", num(b.pi)),
+                ("k", num(p.k)),
+                ("lambda", num(p.lambda)),
+                ("f_ba_sim", num(p.sim.f_ba)),
+                ("t_ba_sim", num(p.sim.t_ba)),
+                ("variants", object(&variants)),
+            ]));
+        }
+    }
+    array(&items)
+}

@@ -1,0 +1,224 @@
+//! The break-away predictor (MODEL.md §4, after Ruderman's eqs. 12–13).
+//!
+//! Under a force ramp u = k·t from idle, and neglecting inertia in
+//! presliding, the velocity at normalised travel w is
+//!
+//! ```text
+//! v(w) = −k·z_max / (F̂·ln w)
+//! ```
+//!
+//! Break-away is placed where w reaches w_b (default 0.95):
+//!
+//! ```text
+//! v_b  = −k·z_max / (F̂·ln w_b)
+//! F_ba = S(v_b) + σ·v_b
+//! t_ba = (S(v_b)·g(w_b) + σ·v_b) / k
+//! ```
+//!
+//! with F̂ one of four [`Variant`]s. `Consistent` takes F̂ = S(v_b), the
+//! smallest positive root of v·S(v) = −k·z_max/ln w_b. The map
+//! v ↦ c/S(v) is non-decreasing (S falls with |v|), so the fixed-point
+//! iteration from c/Fs climbs monotonically to the smallest root; it stops
+//! when the Aitken estimate of the remaining error falls below a few ulp.
+//!
+//! The quasi-static result holds while inertia is negligible in presliding,
+//! roughly m·k²·z_max / (F̂³·w_b·|ln w_b|³) ≪ 1 (MODEL.md §4, §8); beyond
+//! that, the full dynamics of the reference simulator are the judge.
+
+use crate::model::Model;
+use crate::scalar::{Curves, Scalar};
+
+/// Which steady-state level F̂ enters v(w) (MODEL.md §4).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Variant {
+    /// F̂ = Fc.
+    Coulomb,
+    /// F̂ = Fs.
+    Stiction,
+    /// F̂ = (Fc + Fs)/2, the paper's F̂_ss.
+    Mean,
+    /// F̂ = S(v_b), solved self-consistently (beyond the paper).
+    Consistent,
+}
+
+impl Variant {
+    /// The four variants, in the order of MODEL.md §4.
+    pub const ALL: [Variant; 4] = [
+        Variant::Coulomb,
+        Variant::Stiction,
+        Variant::Mean,
+        Variant::Consistent,
+    ];
+
+    /// The variant's name as written in reports and on the command line.
+    pub const fn name(self) -> &'static str {
+        match self {
+            Variant::Coulomb => "coulomb",
+            Variant::Stiction => "stiction",
+            Variant::Mean => "mean",
+            Variant::Consistent => "consistent",
+        }
+    }
+}
+
+/// A predicted break-away.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct BreakAway<T> {
+    /// Velocity at break-away v_b [m/s].
+    pub v_b: T,
+    /// Break-away force F_ba [N].
+    pub f_ba: T,
+    /// Time of break-away t_ba [s] after the start of the ramp.
+    pub t_ba: T,
+}
+
+/// Why a prediction could not be made.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum PredictError {
+    /// The force rate k is not finite and > 0.
+    InvalidRate,
+    /// The break-away boundary w_b is not in (0, 1).
+    InvalidBoundary,
+    /// The normalised travel w of a phase-curve point is not in (0, 1).
+    InvalidTravel,
+    /// The self-consistent root did not converge (S falls so steeply that
+    /// v·S(v) touches the target level tangentially).
+    NoConvergence,
+}
+
+impl core::fmt::Display for PredictError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(match self {
+            PredictError::InvalidRate => "force rate k must be finite and > 0",
+            PredictError::InvalidBoundary => "break-away boundary w_b must be in (0, 1)",
+            PredictError::InvalidTravel => "normalised travel w must be in (0, 1)",
+            PredictError::NoConvergence => "self-consistent break-away velocity did not converge",
+        })
+    }
+}
+
+impl core::error::Error for PredictError {}
+
+/// Predicts break-away for one model and one boundary w_b.
+///
+/// The constants that involve logarithms are computed once here, so a
+/// prediction costs one S(v) evaluation per closed-form variant (a few for
+/// `Consistent`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct BreakAwayPredictor<T> {
+    /// −z_max/ln w_b [m]: v_b·F̂ = k·travel_per_rate.
+    travel_per_rate: T,
+    /// g(w_b).
+    shape_at_boundary: T,
+}
+
+/// The default break-away boundary w_b (the paper's z_0.95).
+pub const DEFAULT_BOUNDARY: f32 = 0.95;
+
+/// The largest number of fixed-point iterations for `Consistent`.
+const MAX_ITERATIONS: usize = 200;
+
+impl<T: Scalar> BreakAwayPredictor<T> {
+    /// A predictor for `model` with the break-away boundary `w_b` in (0, 1).
+    pub fn new(model: &Model<T>, w_b: f32) -> Result<Self, PredictError> {
+        if !(w_b > 0.0 && w_b < 1.0) {
+            return Err(PredictError::InvalidBoundary);
+        }
+        let travel = -model.params().z_max / libm::logf(w_b);
+        let shape = crate::curves::shape_f32(w_b);
+        match (T::from_f32(travel), T::from_f32(shape)) {
+            (Some(travel_per_rate), Some(shape_at_boundary)) if travel.is_finite() => Ok(Self {
+                travel_per_rate,
+                shape_at_boundary,
+            }),
+            _ => Err(PredictError::InvalidBoundary),
+        }
+    }
+
+    /// The break-away under the force rate `k` [N/s] with the level F̂ of
+    /// `variant`.
+    pub fn predict(
+        &self,
+        model: &Model<T>,
+        variant: Variant,
+        k: T,
+    ) -> Result<BreakAway<T>, PredictError> {
+        if !(k.is_finite() && k > T::ZERO) {
+            return Err(PredictError::InvalidRate);
+        }
+        let c = (k * self.travel_per_rate).saturate();
+        let v_b = velocity_for(model, variant, c)?;
+        let s = model.curves.stribeck(v_b);
+        let viscous = (model.sigma * v_b).saturate();
+        Ok(BreakAway {
+            v_b,
+            f_ba: (s + viscous).saturate(),
+            t_ba: ((s * self.shape_at_boundary + viscous) / k).saturate(),
+        })
+    }
+}
+
+/// The velocity v with v·F̂ = c [N·m/s] for the level F̂ of `variant`.
+fn velocity_for<T: Scalar>(model: &Model<T>, variant: Variant, c: T) -> Result<T, PredictError> {
+    let two = T::ONE + T::ONE;
+    let level = match variant {
+        Variant::Coulomb => model.fc,
+        Variant::Stiction => model.fs,
+        Variant::Mean => model.fc + (model.fs - model.fc) / two,
+        Variant::Consistent => return consistent_velocity(model, c),
+    };
+    Ok((c / level).saturate())
+}
+
+/// The smallest positive root of v·S(v) = c.
+///
+/// φ(v) = c/S(v) is non-decreasing, and v₀ = c/Fs lies below every root, so
+/// vₙ₊₁ = φ(vₙ) increases monotonically to the smallest root. The iteration
+/// converges linearly with rate q = φ′; it stops once the Aitken estimate of
+/// the remaining error, Δₙ·q/(1 − q), is below the number type's tolerance.
+fn consistent_velocity<T: Scalar>(model: &Model<T>, c: T) -> Result<T, PredictError> {
+    let mut v = (c / model.fs).saturate();
+    let mut step = T::ZERO;
+    for _ in 0..MAX_ITERATIONS {
+        let next = (c / model.curves.stribeck(v)).saturate();
+        let delta = (next - v).abs();
+        let tolerance = T::TOLERANCE * next;
+        if delta <= tolerance {
+            return Ok(next);
+        }
+        if step > T::ZERO && delta < step {
+            let q = delta / step;
+            if delta * q <= tolerance * (T::ONE - q) {
+                return Ok(next);
+            }
+        }
+        step = delta;
+        v = next;
+    }
+    Err(PredictError::NoConvergence)
+}
+
+impl BreakAwayPredictor<f32> {
+    /// The paper's phase curve: the presliding velocity v(w) [m/s] at
+    /// normalised travel `w` in (0, 1) under the force rate `k` [N/s]
+    /// (paper eq. 12 with z_max; `Consistent` solves F̂ = S(v(w))).
+    pub fn phase_velocity(
+        model: &Model<f32>,
+        variant: Variant,
+        k: f32,
+        w: f32,
+    ) -> Result<f32, PredictError> {
+        if !(k.is_finite() && k > 0.0) {
+            return Err(PredictError::InvalidRate);
+        }
+        if !(w > 0.0 && w < 1.0) {
+            return Err(PredictError::InvalidTravel);
+        }
+        let c = (-k * model.params().z_max / libm::logf(w)).saturate();
+        velocity_for(model, variant, c)
+    }
+}

@@ -1,0 +1,89 @@
+//! The Stribeck curve S(v) (MODEL.md §2) and the presliding shape
+//! g(w) = w·(1 − ln w) (MODEL.md §3) in `f32`, through `libm`.
+
+use crate::params::{Param, ParamError, Params};
+use crate::scalar::Curves;
+
+/// The shape exponent δ, with the common values special-cased so that the
+/// per-sample path avoids `powf`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+enum Exponent {
+    Half,
+    One,
+    Two,
+    General(f32),
+}
+
+/// S(v) and g(w) of one validated parameter set, in `f32`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct CurvesF32 {
+    fc: f32,
+    /// Fs − Fc [N].
+    rise: f32,
+    /// 1/V [s/m].
+    inv_v: f32,
+    delta: Exponent,
+}
+
+impl Curves<f32> for CurvesF32 {
+    fn new(p: &Params) -> Result<Self, ParamError> {
+        let inv_v = 1.0 / p.v_stribeck;
+        if !inv_v.is_finite() {
+            return Err(ParamError::OutOfRange(Param::VStribeck));
+        }
+        // Keeps H_r + (d·S − H_r)·g and H + σ·v clear of overflow.
+        let rise = p.fs - p.fc;
+        if p.fs > f32::MAX / 4.0 {
+            return Err(ParamError::OutOfRange(Param::Fs));
+        }
+        let delta = match p.delta {
+            d if d == 0.5 => Exponent::Half,
+            d if d == 1.0 => Exponent::One,
+            d if d == 2.0 => Exponent::Two,
+            d => Exponent::General(d),
+        };
+        Ok(Self {
+            fc: p.fc,
+            rise,
+            inv_v,
+            delta,
+        })
+    }
+
+    #[inline]
+    fn stribeck(&self, v: f32) -> f32 {
+        let r = libm::fabsf(v) * self.inv_v;
+        let p = match self.delta {
+            Exponent::Half => libm::sqrtf(r),
+            Exponent::One => r,
+            Exponent::Two => r * r,
+            Exponent::General(d) => libm::powf(r, d),
+        };
+        // r is never NaN for finite v (inv_v is finite), so p ≥ 0 or +∞ and
+        // exp(−p) is in [0, 1]: S stays in [Fc, Fs].
+        self.fc + self.rise * libm::expf(-p)
+    }
+
+    #[inline]
+    fn shape(&self, w: f32) -> f32 {
+        shape_f32(w)
+    }
+}
+
+/// g(w) = w·(1 − ln w), clamped to g(w ≤ 0) = 0 and g(w ≥ 1) = 1 (MODEL.md §3).
+///
+/// The result never exceeds 1, so a branch H_r + (d·S − H_r)·g(w) stays
+/// between its two ends.
+#[inline]
+pub fn shape_f32(w: f32) -> f32 {
+    if w <= 0.0 {
+        0.0
+    } else if w >= 1.0 {
+        1.0
+    } else {
+        // w·(1 − ln w) rounds to at most 1 + ulp near w = 1.
+        (w * (1.0 - libm::logf(w))).min(1.0)
+    }
+}

@@ -1,0 +1,81 @@
+//! A validated parameter set ready for the per-sample path (MODEL.md §2–§3).
+
+use crate::params::{Param, ParamError, Params};
+use crate::scalar::{Curves, Scalar};
+
+/// A validated friction model in the number type `T`: the coefficients that
+/// the [`Presliding`](crate::Presliding) state machine and the
+/// [`BreakAwayPredictor`](crate::BreakAwayPredictor) read. It holds no state;
+/// one model can serve many axes.
+#[derive(Clone, Debug)]
+pub struct Model<T: Scalar = f32> {
+    params: Params,
+    pub(crate) curves: T::Curves,
+    pub(crate) fc: T,
+    pub(crate) fs: T,
+    pub(crate) sigma: T,
+    /// 1/z_max [1/m].
+    pub(crate) inv_z_max: T,
+    pub(crate) epsilon: T,
+}
+
+impl<T: Scalar> Model<T> {
+    /// Validates `params` against MODEL.md §2–§3 and prepares the model.
+    ///
+    /// ```
+    /// use breakaway::{Model, Params, ParamError};
+    /// let mut p = Params { fc: 1.0, fs: 1.5, v_stribeck: 1e-3, delta: 1.0,
+    ///                      sigma: 0.0, z_max: 1e-5, epsilon: 0.0 };
+    /// assert!(Model::<f32>::new(p).is_ok());
+    /// p.fs = 0.5;
+    /// assert_eq!(Model::<f32>::new(p).unwrap_err(), ParamError::StictionBelowCoulomb);
+    /// ```
+    pub fn new(params: Params) -> Result<Self, ParamError> {
+        params.validate()?;
+        let convert = |param: Param, x: f32| T::from_f32(x).ok_or(ParamError::OutOfRange(param));
+        let inv_z_max = 1.0 / params.z_max;
+        if !inv_z_max.is_finite() {
+            return Err(ParamError::OutOfRange(Param::ZMax));
+        }
+        Ok(Self {
+            curves: T::Curves::new(&params)?,
+            fc: convert(Param::Fc, params.fc)?,
+            fs: convert(Param::Fs, params.fs)?,
+            sigma: convert(Param::Sigma, params.sigma)?,
+            inv_z_max: convert(Param::ZMax, inv_z_max)?,
+            epsilon: convert(Param::Epsilon, params.epsilon)?,
+            params,
+        })
+    }
+
+    /// The parameters the model was built from.
+    pub fn params(&self) -> &Params {
+        &self.params
+    }
+
+    /// Stribeck magnitude S(v) [N] at velocity `v` [m/s] (MODEL.md §2).
+    #[inline]
+    pub fn stribeck(&self, v: T) -> T {
+        self.curves.stribeck(v)
+    }
+
+    /// Steady-state friction F_ss(v) = sgn(v)·S(v) + σ·v [N] (MODEL.md §2);
+    /// F_ss(0) = 0.
+    #[inline]
+    pub fn steady_state(&self, v: T) -> T {
+        let viscous = (self.sigma * v).saturate();
+        if v > T::ZERO {
+            (self.curves.stribeck(v) + viscous).saturate()
+        } else if v < T::ZERO {
+            (viscous - self.curves.stribeck(v)).saturate()
+        } else {
+            T::ZERO
+        }
+    }
+
+    /// Presliding shape g(w) = w·(1 − ln w), clamped to [0, 1] (MODEL.md §3).
+    #[inline]
+    pub fn shape(&self, w: T) -> T {
+        self.curves.shape(w)
+    }
+}

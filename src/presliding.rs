@@ -1,0 +1,314 @@
+//! The rate-independent presliding state machine (MODEL.md §3).
+//!
+//! Fed one position sample and one velocity estimate per control period, it
+//! tracks the direction of motion d, the turning point x_r with its dry
+//! friction H_r, and returns
+//!
+//! ```text
+//! w = min(1, |x − x_r| / z_max)
+//! H = H_r + (d·S(v) − H_r)·g(w)          g(w) = w·(1 − ln w)
+//! F = H + σ·v
+//! ```
+//!
+//! with the turning-point deadband ε and the idle start of MODEL.md §3.
+//!
+//! # Memory of turning points
+//!
+//! [`Presliding<P, T, 0>`](Presliding) (the default, `N = 0`) keeps one
+//! turning point: the reference rule of MODEL.md §3.
+//!
+//! With `N > 0` the state machine also keeps a stack of up to `N` earlier
+//! turning points and **closes minor loops** (an option beyond the paper,
+//! MODEL.md §3 "Minor loops"):
+//!
+//! - while the current branch, which starts at the last turning point R, heads
+//!   back towards the previous turning point T (the one before R), it runs
+//!   H = H_R + (H_T − H_R)·g(|x − x_R| / |x_T − x_R|), reaching H_T with zero
+//!   slope exactly at x_T;
+//! - once the motion passes x_T, the loop R–T is closed: both are forgotten
+//!   and the branch that was active before T was reached resumes, with no jump
+//!   in H (the loop branches are rate independent; the resumed branch reads
+//!   S at the current velocity, which in presliding differs from the stored
+//!   value by the Stribeck variation over a presliding-scale velocity);
+//! - a branch that reaches gross sliding (w = 1) forgets all stored points.
+//!
+//! **Overflow**: when a reversal finds the stack full, the oldest turning
+//! point is forgotten; its successor becomes the base of the memory. The
+//! outermost loop then no longer closes and behaves as under the
+//! single-turning-point rule (continuous, no jump); the inner loops still
+//! close. With `N = 0` every reversal "overflows", which is exactly the
+//! reference rule: one algorithm serves both.
+//!
+//! Without the closing memory, a small back-and-forth inside presliding does
+//! not return to where it started, and a periodic force below Fc can make the
+//! axis creep (MODEL.md §8).
+
+use heapless::Vec;
+
+use crate::model::Model;
+use crate::position::Position;
+use crate::scalar::{Curves, Scalar};
+
+/// A turning point: where the motion reversed and the dry friction there.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct TurningPoint<T, P> {
+    /// Position of the reversal (sample units).
+    pub position: P,
+    /// Dry friction H at the reversal [N] (without σ·v).
+    pub dry: T,
+}
+
+/// Why a sample was rejected. A rejected sample leaves the state unchanged.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum SampleError {
+    /// The velocity estimate is NaN or infinite.
+    NonFiniteVelocity,
+    /// The position sample is NaN or infinite.
+    NonFinitePosition,
+}
+
+impl core::fmt::Display for SampleError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(match self {
+            SampleError::NonFiniteVelocity => "velocity sample is not finite",
+            SampleError::NonFinitePosition => "position sample is not finite",
+        })
+    }
+}
+
+impl core::error::Error for SampleError {}
+
+/// The scale from position units to metres is not finite and positive.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct ScaleError;
+
+impl core::fmt::Display for ScaleError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str("metres per position unit must be finite and > 0")
+    }
+}
+
+impl core::error::Error for ScaleError {}
+
+/// The presliding state of one axis (MODEL.md §3).
+///
+/// - `P`: the position sample type (`f32` metres, or `i32`/`i64` encoder
+///   counts, see [`position`](crate::position));
+/// - `T`: the number type of forces and velocities;
+/// - `N`: capacity of the turning-point memory; 0 is the reference rule,
+///   `N > 0` closes minor loops (see the module documentation).
+///
+/// The state holds no parameters: each [`update`](Self::update) reads them
+/// from a [`Model`], so one model serves many axes.
+#[derive(Clone, Debug)]
+pub struct Presliding<P = f32, T: Scalar = f32, const N: usize = 0> {
+    metres_per_unit: T,
+    /// d ∈ {−1, 0, +1}; 0 only while idle.
+    direction: i8,
+    /// Start of the branch in force when the memory is empty.
+    base: TurningPoint<T, P>,
+    /// The base branch has reached gross sliding (w = 1).
+    base_saturated: bool,
+    /// Earlier turning points, oldest first; the last one starts the branch.
+    memory: Vec<TurningPoint<T, P>, N>,
+    /// Extremum reached in direction d on the current branch.
+    extremum: P,
+    /// Dry friction at the extremum (held while a reversal is pending).
+    dry_at_extremum: T,
+    dry: T,
+    force: T,
+}
+
+impl Presliding<f32, f32, 0> {
+    /// The reference state machine for `f32` positions in metres, idle at
+    /// `start` [m].
+    pub fn at(start: f32) -> Self {
+        Self::idle(start, 1.0)
+    }
+}
+
+impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
+    /// An idle state at `start`, with positions in units of
+    /// `metres_per_unit` metres (for encoder counts: the metres per count;
+    /// for positions in metres: 1).
+    pub fn new(start: P, metres_per_unit: T) -> Result<Self, ScaleError> {
+        if !(metres_per_unit.is_finite() && metres_per_unit > T::ZERO) {
+            return Err(ScaleError);
+        }
+        Ok(Self::idle(start, metres_per_unit))
+    }
+
+    fn idle(start: P, metres_per_unit: T) -> Self {
+        Self {
+            metres_per_unit,
+            direction: 0,
+            base: TurningPoint {
+                position: start,
+                dry: T::ZERO,
+            },
+            base_saturated: false,
+            memory: Vec::new(),
+            extremum: start,
+            dry_at_extremum: T::ZERO,
+            dry: T::ZERO,
+            force: T::ZERO,
+        }
+    }
+
+    /// Returns to the idle state at `start` (MODEL.md §3: d = 0, H_r = 0).
+    pub fn reset(&mut self, start: P) {
+        *self = Self::idle(start, self.metres_per_unit);
+    }
+
+    /// Feeds one sample: the position `position` and a velocity estimate
+    /// `velocity` [m/s]; returns the friction force F = H + σ·v [N].
+    ///
+    /// A NaN or infinite sample is rejected with an error and leaves the state
+    /// untouched. For finite samples the result is finite and |H| never
+    /// exceeds Fs.
+    pub fn update(&mut self, model: &Model<T>, position: P, velocity: T) -> Result<T, SampleError> {
+        if !velocity.is_finite() {
+            return Err(SampleError::NonFiniteVelocity);
+        }
+        if !position.is_valid() {
+            return Err(SampleError::NonFinitePosition);
+        }
+        let viscous = (model.sigma * velocity).saturate();
+        if self.direction == 0 {
+            let moved = position.travel_from(self.base.position, self.metres_per_unit);
+            if moved > T::ZERO {
+                self.direction = 1;
+            } else if moved < T::ZERO {
+                self.direction = -1;
+            } else {
+                self.force = viscous;
+                return Ok(viscous);
+            }
+        }
+        let ahead = self.along(position.travel_from(self.extremum, self.metres_per_unit));
+        if ahead >= T::ZERO {
+            self.extremum = position;
+            self.dry_at_extremum = self.follow(model, position, velocity);
+        } else if -ahead > model.epsilon {
+            self.reverse();
+            self.extremum = position;
+            self.dry_at_extremum = self.follow(model, position, velocity);
+        }
+        // else: a reversal is pending inside the deadband; H is held.
+        self.dry = self.dry_at_extremum;
+        self.force = (self.dry + viscous).saturate();
+        Ok(self.force)
+    }
+
+    /// Friction force F [N] returned by the last accepted sample.
+    pub fn force(&self) -> T {
+        self.force
+    }
+
+    /// Dry (hysteretic) friction H [N] after the last accepted sample.
+    pub fn dry(&self) -> T {
+        self.dry
+    }
+
+    /// Direction of motion d: −1, +1, or 0 while idle.
+    pub fn direction(&self) -> i8 {
+        self.direction
+    }
+
+    /// The turning point that starts the current branch (the idle start
+    /// before the first motion).
+    pub fn turning_point(&self) -> TurningPoint<T, P> {
+        self.memory.last().copied().unwrap_or(self.base)
+    }
+
+    /// Number of turning points held in the closing memory (always 0 for
+    /// `N = 0`).
+    pub fn memory_len(&self) -> usize {
+        self.memory.len()
+    }
+
+    /// `true` when the current branch has reached gross sliding (w = 1).
+    pub fn is_sliding(&self) -> bool {
+        self.memory.is_empty() && self.base_saturated
+    }
+
+    /// `x` signed by the direction of motion: d·x.
+    #[inline(always)]
+    fn along(&self, x: T) -> T {
+        if self.direction < 0 {
+            -x
+        } else {
+            x
+        }
+    }
+
+    /// A confirmed reversal at the extremum: it becomes the turning point of
+    /// a new branch in the opposite direction.
+    fn reverse(&mut self) {
+        let turning_point = TurningPoint {
+            position: self.extremum,
+            dry: self.dry_at_extremum,
+        };
+        if let Err(turning_point) = self.memory.push(turning_point) {
+            // Full (always for N = 0): the oldest point becomes the base.
+            self.base = if self.memory.is_empty() {
+                turning_point
+            } else {
+                let oldest = self
+                    .memory
+                    .as_slice()
+                    .first()
+                    .copied()
+                    .unwrap_or(turning_point);
+                self.memory.as_mut_slice().rotate_left(1);
+                self.memory.pop();
+                // Cannot fail: one slot was just freed.
+                let _ = self.memory.push(turning_point);
+                oldest
+            };
+            self.base_saturated = false;
+        }
+        self.direction = -self.direction;
+    }
+
+    /// Dry friction H on the current branch at `position`, the extremum of
+    /// the branch; closes minor loops and forgets the memory in gross sliding.
+    fn follow(&mut self, model: &Model<T>, position: P, velocity: T) -> T {
+        let stribeck = self.along(model.curves.stribeck(velocity));
+        loop {
+            let len = self.memory.len();
+            if len == 0 && self.base_saturated {
+                return stribeck;
+            }
+            let start = self.turning_point();
+            let travel = self.along(position.travel_from(start.position, self.metres_per_unit));
+            if let Some(target) = len.checked_sub(2).and_then(|i| self.memory.get(i)).copied() {
+                let span = self.along(
+                    target
+                        .position
+                        .travel_from(start.position, self.metres_per_unit),
+                );
+                if travel < span {
+                    let g = model.curves.shape(travel / span);
+                    return start.dry + (target.dry - start.dry) * g;
+                }
+                // Passed the previous turning point: the minor loop closes.
+                self.memory.truncate(len - 2);
+                continue;
+            }
+            let w = travel * model.inv_z_max;
+            if w < T::ONE {
+                let g = model.curves.shape(w);
+                return start.dry + (stribeck - start.dry) * g;
+            }
+            // Gross sliding: every stored loop is wiped out.
+            self.base = start;
+            self.base_saturated = true;
+            self.memory.clear();
+            return stribeck;
+        }
+    }
+}

@@ -1,0 +1,104 @@
+//! The number types the model runs on.
+//!
+//! The friction model is written once, generic over [`Scalar`]. A number type
+//! supplies plain arithmetic through the `core::ops` traits and, through its
+//! associated [`Curves`] type, the two non-polynomial functions of the model:
+//! the Stribeck curve S(v) (MODEL.md §2) and the presliding shape
+//! g(w) = w·(1 − ln w) (MODEL.md §3). For `f32` these are evaluated through
+//! `libm`; a fixed-point type can supply table-based curves instead and reuse
+//! the state machine and the predictor unchanged.
+
+use core::ops::{Add, Div, Mul, Neg, Sub};
+
+use crate::params::{ParamError, Params};
+
+/// A number type the friction model can run on.
+pub trait Scalar:
+    Copy
+    + PartialOrd
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+{
+    /// 0.
+    const ZERO: Self;
+    /// 1.
+    const ONE: Self;
+    /// Relative tolerance of iterative solvers (a few units in the last place).
+    const TOLERANCE: Self;
+    /// The curves S(v) and g(w) evaluated in this number type.
+    type Curves: Curves<Self>;
+
+    /// Converts a parameter or constant; `None` when it is not representable.
+    fn from_f32(x: f32) -> Option<Self>;
+    /// Converts back to `f32` (for reports; never used on the per-sample path).
+    fn to_f32(self) -> f32;
+    /// `false` for NaN and ±∞ (a fixed-point type is always finite).
+    fn is_finite(self) -> bool;
+    /// Clamps an overflowed result to the largest finite magnitude.
+    fn saturate(self) -> Self;
+
+    /// |self|.
+    #[inline(always)]
+    fn abs(self) -> Self {
+        if self < Self::ZERO {
+            -self
+        } else {
+            self
+        }
+    }
+
+    /// The smaller of two numbers.
+    #[inline(always)]
+    fn min(self, other: Self) -> Self {
+        if other < self {
+            other
+        } else {
+            self
+        }
+    }
+}
+
+/// The non-polynomial functions of the model for one parameter set.
+pub trait Curves<T>: Sized + Clone {
+    /// Builds the curves of a validated parameter set; `Err` names a parameter
+    /// whose value cannot be represented in `T`.
+    fn new(params: &Params) -> Result<Self, ParamError>;
+    /// Stribeck magnitude S(v) = Fc + (Fs − Fc)·exp(−(|v|/V)^δ) [N] at the
+    /// velocity `v` [m/s] (MODEL.md §2).
+    fn stribeck(&self, v: T) -> T;
+    /// Presliding shape g(w) = w·(1 − ln w) for `w` in [0, 1]; 0 for `w ≤ 0`,
+    /// 1 for `w ≥ 1` (MODEL.md §3).
+    fn shape(&self, w: T) -> T;
+}
+
+impl Scalar for f32 {
+    const ZERO: Self = 0.0;
+    const ONE: Self = 1.0;
+    const TOLERANCE: Self = 4.0 * f32::EPSILON;
+    type Curves = crate::curves::CurvesF32;
+
+    #[inline(always)]
+    fn from_f32(x: f32) -> Option<Self> {
+        Some(x)
+    }
+    #[inline(always)]
+    fn to_f32(self) -> f32 {
+        self
+    }
+    #[inline(always)]
+    fn is_finite(self) -> bool {
+        f32::is_finite(self)
+    }
+    #[inline(always)]
+    fn saturate(self) -> Self {
+        // NaN never reaches here from finite inputs; map it to 0 defensively.
+        if self.is_nan() {
+            0.0
+        } else {
+            self.clamp(-f32::MAX, f32::MAX)
+        }
+    }
+}
