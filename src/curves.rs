@@ -82,8 +82,16 @@ pub fn shape_f32(w: f32) -> f32 {
         0.0
     } else if w >= 1.0 {
         1.0
+    } else if w > 0.9 {
+        // Near w = 1, g is flat (g′ = −ln w → 0) and w·(1 − ln w) would
+        // round non-monotonically. With u = 1 − w (exact here),
+        // 1 − g = Σₙ≥₂ uⁿ/(n(n − 1)); six terms leave < 2e-10 for u < 0.1,
+        // and 1 − (a monotone polynomial with positive coefficients) rounds
+        // monotonically.
+        let u = 1.0 - w;
+        let tail = 1.0 / 20.0 + u * (1.0 / 30.0 + u * (1.0 / 42.0));
+        1.0 - u * u * (0.5 + u * (1.0 / 6.0 + u * (1.0 / 12.0 + u * tail)))
     } else {
-        // w·(1 − ln w) rounds to at most 1 + ulp near w = 1.
-        (w * (1.0 - libm::logf(w))).min(1.0)
+        w * (1.0 - libm::logf(w))
     }
 }

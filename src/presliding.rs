@@ -33,11 +33,13 @@
 //! - a branch that reaches gross sliding (w = 1) forgets all stored points.
 //!
 //! **Overflow**: when a reversal finds the stack full, the oldest turning
-//! point is forgotten; its successor becomes the base of the memory. The
-//! outermost loop then no longer closes and behaves as under the
-//! single-turning-point rule (continuous, no jump); the inner loops still
-//! close. With `N = 0` every reversal "overflows", which is exactly the
-//! reference rule: one algorithm serves both.
+//! point is forgotten. The branch that would later resume from it is then
+//! unknown, so when the motion closes the outermost remembered loop, it
+//! continues from that loop's end point towards the steady state, as after a
+//! turning point under the single-turning-point rule: continuous (no jump in
+//! H), only the outermost loop no longer closes; the inner loops still do.
+//! With `N = 0` every reversal "overflows", which is exactly the reference
+//! rule: one algorithm serves both.
 //!
 //! Without the closing memory, a small back-and-forth inside presliding does
 //! not return to where it started, and a periodic force below Fc can make the
@@ -103,7 +105,7 @@ impl core::error::Error for ScaleError {}
 ///
 /// The state holds no parameters: each [`update`](Self::update) reads them
 /// from a [`Model`], so one model serves many axes.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Presliding<P = f32, T: Scalar = f32, const N: usize = 0> {
     metres_per_unit: T,
     /// d ∈ {−1, 0, +1}; 0 only while idle.
@@ -112,6 +114,9 @@ pub struct Presliding<P = f32, T: Scalar = f32, const N: usize = 0> {
     base: TurningPoint<T, P>,
     /// The base branch has reached gross sliding (w = 1).
     base_saturated: bool,
+    /// The base is a remembered turning point that the oldest stored branch
+    /// heads back to (after an overflow), rather than the start of a branch.
+    base_is_target: bool,
     /// Earlier turning points, oldest first; the last one starts the branch.
     memory: Vec<TurningPoint<T, P>, N>,
     /// Extremum reached in direction d on the current branch.
@@ -150,6 +155,7 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
                 dry: T::ZERO,
             },
             base_saturated: false,
+            base_is_target: false,
             memory: Vec::new(),
             extremum: start,
             dry_at_extremum: T::ZERO,
@@ -253,22 +259,18 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
             dry: self.dry_at_extremum,
         };
         if let Err(turning_point) = self.memory.push(turning_point) {
-            // Full (always for N = 0): the oldest point becomes the base.
-            self.base = if self.memory.is_empty() {
-                turning_point
-            } else {
-                let oldest = self
-                    .memory
-                    .as_slice()
-                    .first()
-                    .copied()
-                    .unwrap_or(turning_point);
+            // Full (always for N = 0): forget the oldest point.
+            if let Some(&oldest) = self.memory.first() {
                 self.memory.as_mut_slice().rotate_left(1);
                 self.memory.pop();
                 // Cannot fail: one slot was just freed.
                 let _ = self.memory.push(turning_point);
-                oldest
-            };
+                self.base = oldest;
+                self.base_is_target = true;
+            } else {
+                self.base = turning_point;
+                self.base_is_target = false;
+            }
             self.base_saturated = false;
         }
         self.direction = -self.direction;
@@ -285,7 +287,12 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
             }
             let start = self.turning_point();
             let travel = self.along(position.travel_from(start.position, self.metres_per_unit));
-            if let Some(target) = len.checked_sub(2).and_then(|i| self.memory.get(i)).copied() {
+            let target = match len {
+                0 => None,
+                1 => self.base_is_target.then_some(self.base),
+                _ => self.memory.get(len - 2).copied(),
+            };
+            if let Some(target) = target {
                 let span = self.along(
                     target
                         .position
@@ -295,8 +302,15 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
                     let g = model.curves.shape(travel / span);
                     return start.dry + (target.dry - start.dry) * g;
                 }
-                // Passed the previous turning point: the minor loop closes.
-                self.memory.truncate(len - 2);
+                // Passed the previous turning point: the minor loop closes and
+                // the branch that led to the target resumes.
+                self.memory.truncate(len.saturating_sub(2));
+                if self.memory.is_empty() && (len == 1 || self.base_is_target) {
+                    // That branch was forgotten on overflow: go on from the
+                    // target towards the steady state instead (no jump).
+                    self.base = target;
+                    self.base_is_target = false;
+                }
                 continue;
             }
             let w = travel * model.inv_z_max;
@@ -307,6 +321,7 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
             // Gross sliding: every stored loop is wiped out.
             self.base = start;
             self.base_saturated = true;
+            self.base_is_target = false;
             self.memory.clear();
             return stribeck;
         }
