@@ -38,11 +38,14 @@ impl Curves<f32> for CurvesF32 {
         if p.fs > f32::MAX / 4.0 {
             return Err(ParamError::OutOfRange(Param::Fs));
         }
-        let delta = match p.delta {
-            d if d == 0.5 => Exponent::Half,
-            d if d == 1.0 => Exponent::One,
-            d if d == 2.0 => Exponent::Two,
-            d => Exponent::General(d),
+        let delta = if p.delta == 0.5 {
+            Exponent::Half
+        } else if p.delta == 1.0 {
+            Exponent::One
+        } else if p.delta == 2.0 {
+            Exponent::Two
+        } else {
+            Exponent::General(p.delta)
         };
         Ok(Self {
             fc: p.fc,
