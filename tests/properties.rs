@@ -24,9 +24,11 @@ fn model(p: Params) -> Model<f32> {
     Model::new(p).expect("valid parameters")
 }
 
+type Breaker = fn(&mut Params);
+
 #[test]
 fn every_invalid_parameter_has_its_own_error() {
-    let cases: [(fn(&mut Params), ParamError); 15] = [
+    let cases: [(Breaker, ParamError); 15] = [
         (|p| p.fc = 0.0, ParamError::CoulombNotPositive),
         (|p| p.fc = -1.0, ParamError::CoulombNotPositive),
         (|p| p.fs = 0.99, ParamError::StictionBelowCoulomb),
@@ -95,7 +97,7 @@ fn shape_ends_and_monotone() {
     assert_eq!(shape_f32(-3.0), 0.0);
     assert_eq!(shape_f32(7.0), 1.0);
     // g(0.15) = 0.43 as quoted in MODEL.md §3; g(0.5) = 0.5·(1 + ln 2).
-    assert!((shape_f32(0.15) - 0.434_568_0).abs() < 1e-6);
+    assert!((shape_f32(0.15) - 0.434_568).abs() < 1e-6);
     assert!((shape_f32(0.5) - 0.846_573_6).abs() < 1e-6);
     let mut last = 0.0;
     for i in 1..=100_000 {
