@@ -49,3 +49,8 @@ pub use crate::params::{Param, ParamError, Params};
 pub use crate::position::Position;
 pub use crate::presliding::{Presliding, SampleError, ScaleError, TurningPoint};
 pub use crate::scalar::{Curves, Scalar};
+
+/// The README's code blocks, compiled and run as doctests.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;
