@@ -1,0 +1,41 @@
+//! The break-away table F_ba(k) of the paper's Fig. 5 setting, computed on
+//! the MCU (MODEL.md §4), for the four variants of F̂.
+//!
+//! Output, one line per (variant, k): `ba <variant> <k> <v_b> <f_ba> <t_ba>`,
+//! then `done`. `cargo xtask test` compares every line with the f64 reference.
+#![no_std]
+#![no_main]
+#![allow(unsafe_code)] // cortex-m-rt's `#[exception]` handler is an `unsafe fn`
+
+#[path = "common/mod.rs"]
+mod common;
+
+use breakaway::{BreakAwayPredictor, Model, Variant, DEFAULT_BOUNDARY};
+use cortex_m_rt::entry;
+use cortex_m_semihosting::hprintln;
+
+/// The paper's grid: k = 0.01, then 1 … 29 in steps of 2, and 30 N/s.
+const RATES: [f32; 17] = [
+    0.01, 1.0, 3.0, 5.0, 7.0, 9.0, 11.0, 13.0, 15.0, 17.0, 19.0, 21.0, 23.0, 25.0, 27.0, 29.0,
+    30.0,
+];
+
+#[entry]
+fn main() -> ! {
+    let Ok(model) = Model::<f32>::new(common::FIG5) else {
+        common::exit_failure("invalid parameters");
+    };
+    let Ok(predictor) = BreakAwayPredictor::new(&model, DEFAULT_BOUNDARY) else {
+        common::exit_failure("invalid boundary");
+    };
+    for variant in Variant::ALL {
+        for k in RATES {
+            match predictor.predict(&model, variant, k) {
+                Ok(ba) => hprintln!("ba {} {} {} {} {}", variant.name(), k, ba.v_b, ba.f_ba, ba.t_ba),
+                Err(_) => common::exit_failure("prediction failed"),
+            }
+        }
+    }
+    hprintln!("done");
+    common::exit_success()
+}

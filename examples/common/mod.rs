@@ -1,0 +1,51 @@
+//! Shared firmware plumbing of the examples: exit through semihosting with
+//! status 0 on success and 1 from the panic and HardFault handlers, so that
+//! QEMU's exit status is the example's verdict.
+
+// Links cortex-m, whose single-core critical section semihosting uses.
+use cortex_m as _;
+use cortex_m_rt::{exception, ExceptionFrame};
+use cortex_m_semihosting::{debug, hprintln};
+
+/// The paper's Fig. 5 setting (MODEL.md §4, `lab/models/fig5.toml`).
+#[allow(dead_code)]
+pub const FIG5: breakaway::Params = breakaway::Params {
+    fc: 1.0,
+    fs: 1.5,
+    v_stribeck: 1e-3,
+    delta: 1.0,
+    sigma: 0.0,
+    z_max: 1e-5,
+    epsilon: 0.0,
+};
+
+/// Ends the run: QEMU exits with status 0.
+pub fn exit_success() -> ! {
+    debug::exit(debug::EXIT_SUCCESS);
+    #[allow(clippy::empty_loop)]
+    loop {}
+}
+
+/// Ends the run with a message: QEMU exits with status 1.
+pub fn exit_failure(message: &str) -> ! {
+    hprintln!("error: {}", message);
+    debug::exit(debug::EXIT_FAILURE);
+    #[allow(clippy::empty_loop)]
+    loop {}
+}
+
+#[panic_handler]
+fn panic(info: &core::panic::PanicInfo) -> ! {
+    hprintln!("panic: {}", info);
+    debug::exit(debug::EXIT_FAILURE);
+    #[allow(clippy::empty_loop)]
+    loop {}
+}
+
+#[exception]
+unsafe fn HardFault(frame: &ExceptionFrame) -> ! {
+    hprintln!("HardFault at pc = {:#010x}", frame.pc());
+    debug::exit(debug::EXIT_FAILURE);
+    #[allow(clippy::empty_loop)]
+    loop {}
+}
