@@ -16,8 +16,9 @@ pub const USAGE: &str = "\
 breakaway-lab: command-line front of the breakaway f64 reference model (MODEL.md)
 
 USAGE:
-  breakaway-lab breakaway --model FILE --k LIST [--variant V] [--wb W] [--dynamic] [--json]
-  breakaway-lab validity-map --model FILE [--masses LIST] [--k LIST] [--variant V] [--wb W] [--json]
+  breakaway-lab breakaway --model FILE --k LIST [--variant V] [--wb W] [--dynamic] [--json|--markdown]
+  breakaway-lab validity-map --model FILE [--masses LIST] [--k LIST] [--variant V] [--wb W]
+                             [--json|--markdown]
 
   breakaway     quasi-static break-away force F_ba(k) under the ramp u = k*t (MODEL.md §4);
                 --dynamic adds the full-dynamics simulation (F_ba_sim, t_ba_sim)
@@ -36,6 +37,9 @@ OPTIONS:
   --wb W          presliding boundary w_b in (0, 1) (default 0.95)
   --dynamic       breakaway: also simulate the full dynamics, once per k
   --json          JSON array of objects instead of a table
+  --markdown      markdown instead of a text table: breakaway gives one row per k with
+                  F_ba per variant (and F_ba_sim); validity-map gives one drift table per
+                  variant, k down and m across
   -h, --help      this text
 ";
 
@@ -61,8 +65,19 @@ pub struct BreakawayArgs {
     pub w_b: f64,
     /// Also run the full dynamics.
     pub dynamic: bool,
-    /// JSON output.
-    pub json: bool,
+    /// Output format.
+    pub format: Format,
+}
+
+/// Output format.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    /// Aligned text table (default).
+    Table,
+    /// `--json`.
+    Json,
+    /// `--markdown`.
+    Markdown,
 }
 
 /// Arguments of `validity-map`.
@@ -78,8 +93,8 @@ pub struct ValidityArgs {
     pub variants: Vec<Variant>,
     /// Presliding boundary `w_b`.
     pub w_b: f64,
-    /// JSON output.
-    pub json: bool,
+    /// Output format.
+    pub format: Format,
 }
 
 /// A parsed command line.
@@ -107,6 +122,7 @@ struct Raw {
     wb: Option<String>,
     dynamic: bool,
     json: bool,
+    markdown: bool,
 }
 
 /// Parses the arguments after the program name.
@@ -133,6 +149,12 @@ pub fn parse(args: &[String]) -> Result<Command, Error> {
         raw.model
             .ok_or_else(|| usage(format!("{sub}: missing --model FILE")))?,
     );
+    let format = match (raw.json, raw.markdown) {
+        (true, true) => return Err(usage("--json and --markdown exclude each other")),
+        (true, false) => Format::Json,
+        (false, true) => Format::Markdown,
+        (false, false) => Format::Table,
+    };
     let w_b = match &raw.wb {
         Some(s) => parse_wb(s)?,
         None => DEFAULT_WB,
@@ -149,7 +171,7 @@ pub fn parse(args: &[String]) -> Result<Command, Error> {
             k,
             variants,
             w_b,
-            json: raw.json,
+            format,
         }))
     } else {
         let k = raw
@@ -163,7 +185,7 @@ pub fn parse(args: &[String]) -> Result<Command, Error> {
             variants,
             w_b,
             dynamic: raw.dynamic,
-            json: raw.json,
+            format,
         }))
     }
 }
@@ -189,6 +211,10 @@ fn parse_raw(rest: &[String], validity: bool) -> Result<Raw, Error> {
         let slot = match name {
             "--json" => {
                 flag(&mut raw.json)?;
+                continue;
+            }
+            "--markdown" => {
+                flag(&mut raw.markdown)?;
                 continue;
             }
             "--dynamic" if !validity => {
@@ -293,7 +319,7 @@ pub fn parse_list(s: &str) -> Result<Vec<f64>, String> {
                     return Err(format!("range `{item}`: STOP is below START"));
                 }
                 let n = ((stop - start) / step + 1e-9).floor();
-                if !(n < MAX_POINTS as f64) || out.len() + n as usize >= MAX_POINTS {
+                if n >= MAX_POINTS as f64 || out.len() + n as usize >= MAX_POINTS {
                     return Err(format!("range `{item}`: more than {MAX_POINTS} points"));
                 }
                 let n = n as usize;
@@ -322,4 +348,120 @@ pub fn parse_list(s: &str) -> Result<Vec<f64>, String> {
         return Err(format!("values must be > 0, got {bad}"));
     }
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn argv(s: &str) -> Vec<String> {
+        s.split_whitespace().map(String::from).collect()
+    }
+
+    #[test]
+    fn list_forms() {
+        assert_eq!(parse_list("1").unwrap(), vec![1.0]);
+        assert_eq!(parse_list("0.01, 0.1 ,1").unwrap(), vec![0.01, 0.1, 1.0]);
+        assert_eq!(parse_list("1:3:1").unwrap(), vec![1.0, 2.0, 3.0]);
+        assert_eq!(
+            parse_list("0.01,0.1,1:3:1").unwrap(),
+            vec![0.01, 0.1, 1.0, 2.0, 3.0]
+        );
+        // STOP included when on the grid within rounding, and exactly STOP.
+        let g = parse_list("0.1:0.3:0.1").unwrap();
+        assert_eq!(g.len(), 3);
+        assert_eq!(g[2], 0.3);
+        let g = parse_list("0.01:30:0.01").unwrap();
+        assert_eq!(g.len(), 3000);
+        assert_eq!(*g.last().unwrap(), 30.0);
+        // The paper's grid: STOP not on the grid.
+        let g = parse_list("0.01:30:2").unwrap();
+        assert_eq!(g.len(), 15);
+        assert!((g[14] - 28.01).abs() < 1e-12);
+        // A one-point range and ranges mixed with numbers.
+        assert_eq!(parse_list("5:5:1,1e-3").unwrap(), vec![5.0, 0.001]);
+    }
+
+    #[test]
+    fn bad_lists() {
+        for bad in [
+            "",
+            "1,",
+            ",1",
+            "a",
+            "1:2",
+            "1:2:3:4",
+            "1:2:0",
+            "1:2:-1",
+            "3:1:1",
+            "0",
+            "-1",
+            "0:1:0.5",
+            "inf",
+            "nan",
+            "1e400",
+            "1:1e9:1e-3",
+        ] {
+            assert!(parse_list(bad).is_err(), "accepted `{bad}`");
+        }
+        assert!(parse_list("0.5,x")
+            .unwrap_err()
+            .contains("`x` is not a number"));
+    }
+
+    #[test]
+    fn commands() {
+        let c = parse(&argv("breakaway --model m.toml --k 1,2")).unwrap();
+        let Command::Breakaway(a) = c else { panic!() };
+        assert_eq!(a.k, vec![1.0, 2.0]);
+        assert_eq!(a.variants, Variant::ALL.to_vec());
+        assert_eq!(a.w_b, 0.95);
+        assert!(!a.dynamic);
+        assert_eq!(a.format, Format::Table);
+        let c = parse(&argv(
+            "breakaway --json --k=3 --variant consistent,mean --wb=0.9 --dynamic --model=m.toml",
+        ))
+        .unwrap();
+        let Command::Breakaway(a) = c else { panic!() };
+        assert_eq!(a.variants, vec![Variant::Consistent, Variant::Mean]);
+        assert_eq!((a.w_b, a.dynamic, a.format), (0.9, true, Format::Json));
+        let c = parse(&argv("validity-map --model m.toml")).unwrap();
+        let Command::ValidityMap(a) = c else { panic!() };
+        assert_eq!(a.masses, vec![0.1, 1.0, 10.0]);
+        assert_eq!(a.k.len(), 8);
+        assert_eq!(a.variants, vec![Variant::Mean, Variant::Consistent]);
+        assert_eq!(parse(&argv("breakaway --help")).unwrap(), Command::Help);
+    }
+
+    #[test]
+    fn bad_commands_are_usage_errors() {
+        for (line, needle) in [
+            ("", "sub-command"),
+            ("simulate --model m", "simulate"),
+            ("breakaway --k 1", "--model"),
+            ("breakaway --model m.toml", "--k"),
+            ("breakaway --model m.toml --k", "--k"),
+            ("breakaway --model m.toml --k 0", "--k"),
+            ("breakaway --model m.toml --k 1 --k 2", "twice"),
+            ("breakaway --model m.toml --k 1 --wb 1", "--wb"),
+            ("breakaway --model m.toml --k 1 --wb 0", "--wb"),
+            ("breakaway --model m.toml --k 1 --wb x", "--wb"),
+            ("breakaway --model m.toml --k 1 --variant fast", "fast"),
+            ("breakaway --model m.toml --k 1 --masses 1", "--masses"),
+            ("breakaway --model m.toml --k 1 --json=yes", "--json"),
+            ("breakaway --model m.toml --k 1 extra", "extra"),
+            ("validity-map --model m.toml --dynamic", "--dynamic"),
+            (
+                "validity-map --model m.toml --json --markdown",
+                "--markdown",
+            ),
+            ("validity-map --model m.toml --masses 0,1", "--masses"),
+        ] {
+            let e = parse(&argv(line)).unwrap_err();
+            assert_eq!(e.exit_code(), 2, "{line}");
+            let msg = e.to_string();
+            assert!(msg.contains(needle), "`{line}` -> `{msg}`");
+            assert!(!msg.contains('\n'));
+        }
+    }
 }

@@ -24,7 +24,7 @@ pub fn load_model(path: &Path) -> Result<Model, Error> {
             Error::Runtime(format!("model file {shown}: {msg}"))
         }
     })?;
-    if !(model.z_max > 0.0) {
+    if model.z_max.is_nan() || model.z_max <= 0.0 {
         return Err(Error::Runtime(format!(
             "model file {}: key `z_max`: break-away needs presliding, z_max > 0 (MODEL.md §4), got {}",
             path.display(),
@@ -62,13 +62,13 @@ pub struct BreakawayRow {
 
 fn predict(m: &Model, v: Variant, k: f64, w_b: f64) -> Result<reference::BreakAway, Error> {
     reference::predict_break_away(m, v, k, w_b)
-        .map_err(|e| Error::Runtime(format!("{} at k = {k}: {e}", v.name())))
+        .map_err(|e| Error::Runtime(format!("{} at k = {k:?}: {e}", v.name())))
 }
 
 fn simulate(m: &Model, k: f64, w_b: f64) -> Result<Dynamic, Error> {
     let d = reference::simulate_break_away(m, k, w_b).map_err(|e| {
         Error::Runtime(format!(
-            "full-dynamics simulation at m = {}, k = {k}: {e}",
+            "full-dynamics simulation at m = {:?}, k = {k:?}: {e}",
             m.mass
         ))
     })?;

@@ -224,3 +224,99 @@ pub fn validity_json(blocks: &[ValidityBlock]) -> String {
     }
     array(&items)
 }
+
+/// A markdown table (numbers right-aligned).
+pub fn markdown(header: &[String], rows: &[Vec<String>]) -> String {
+    let mut out = format!("| {} |\n|", header.join(" | "));
+    for (i, _) in header.iter().enumerate() {
+        out.push_str(if i == 0 { "---|" } else { "---:|" });
+    }
+    out.push('\n');
+    for row in rows {
+        out.push_str(&format!("| {} |\n", row.join(" | ")));
+    }
+    out
+}
+
+/// `breakaway --markdown`: one row per `k` (in the order given), `F_ba` per
+/// variant, and `F_ba_sim` when the rows carry the dynamics.
+pub fn breakaway_markdown(rows: &[BreakawayRow], variants: &[Variant]) -> String {
+    let dynamic = rows.first().is_some_and(|r| r.dynamic.is_some());
+    let mut header = vec!["k [N/s]".to_string()];
+    header.extend(variants.iter().map(|v| format!("F_ba {} [N]", v.name())));
+    if dynamic {
+        header.push("F_ba sim [N]".into());
+        header.push("t_ba sim [s]".into());
+    }
+    // Rows are grouped by variant, then k: row i of variant j is rows[j·n + i].
+    let n = rows.len() / variants.len().max(1);
+    let cells: Vec<Vec<String>> = (0..n)
+        .map(|i| {
+            let mut c = vec![short(rows[i].k, 6)];
+            c.extend((0..variants.len()).map(|j| {
+                rows.get(j * n + i)
+                    .map_or("—".to_string(), |r| format!("{:.4}", r.f_ba))
+            }));
+            if let Some(d) = rows[i].dynamic {
+                c.push(format!("{:.4}", d.f_ba));
+                c.push(short(d.t_ba, 4));
+            }
+            c
+        })
+        .collect();
+    markdown(&header, &cells)
+}
+
+/// `validity-map --markdown`: a line of `Π` and `k(Λ = 1)` per mass, then per
+/// variant a table of the relative drift in %, `k` down and `m` across,
+/// marked `*` above 1 % and `**` above 10 %.
+pub fn validity_markdown(blocks: &[ValidityBlock], variants: &[Variant], w_b: f64) -> String {
+    let mut out = String::new();
+    let mut header = vec!["".to_string()];
+    header.extend(
+        blocks
+            .iter()
+            .map(|b| format!("m = {} kg", short(b.mass, 6))),
+    );
+    let pi: Vec<String> = std::iter::once("Π (MODEL.md §8)".to_string())
+        .chain(blocks.iter().map(|b| short(b.pi, 3)))
+        .collect();
+    let k1: Vec<String> = std::iter::once("k at Λ = 1 [N/s]".to_string())
+        .chain(blocks.iter().map(|b| short(b.k_unit_inertia, 3)))
+        .collect();
+    out.push_str(&markdown(&header, &[pi, k1]));
+    let n = blocks.first().map_or(0, |b| b.points.len());
+    for (j, v) in variants.iter().enumerate() {
+        let _ = writeln!(
+            out,
+            "\nDrift of `{}`, (F_ba − F_ba_sim)/F_ba_sim in % (w_b = {w_b}; * > 1 %, ** > 10 %):\n",
+            v.name()
+        );
+        let mut header = vec!["k [N/s]".to_string()];
+        header.extend(
+            blocks
+                .iter()
+                .map(|b| format!("m = {} kg", short(b.mass, 6))),
+        );
+        let cells: Vec<Vec<String>> = (0..n)
+            .map(|i| {
+                let mut c = vec![short(blocks[0].points[i].k, 6)];
+                c.extend(blocks.iter().map(|b| {
+                    let Some(d) = b.points.get(i).and_then(|p| p.compared.get(j)) else {
+                        return "—".to_string();
+                    };
+                    let d = d.drift;
+                    let mark = match band(d) {
+                        "ok" => "",
+                        ">1%" => " *",
+                        _ => " **",
+                    };
+                    format!("{:+.2}{mark}", 100.0 * d)
+                }));
+                c
+            })
+            .collect();
+        out.push_str(&markdown(&header, &cells));
+    }
+    out
+}

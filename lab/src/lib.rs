@@ -19,10 +19,9 @@
 pub mod args;
 pub mod commands;
 pub mod format;
-mod stub;
 
 /// The reference crate (the only model implementation the lab uses).
-pub(crate) use stub as reference;
+pub(crate) use breakaway_reference as reference;
 
 use std::fmt;
 use std::io::Write;
@@ -76,20 +75,20 @@ pub fn run(args: &[String], out: &mut dyn Write) -> Result<(), Error> {
         args::Command::Breakaway(a) => {
             let model = commands::load_model(&a.model)?;
             let rows = commands::breakaway_rows(&model, &a.k, &a.variants, a.w_b, a.dynamic)?;
-            let text = if a.json {
-                format::breakaway_json(&rows)
-            } else {
-                format::breakaway_table(&rows, a.dynamic)
+            let text = match a.format {
+                args::Format::Json => format::breakaway_json(&rows),
+                args::Format::Markdown => format::breakaway_markdown(&rows, &a.variants),
+                args::Format::Table => format::breakaway_table(&rows, a.dynamic),
             };
             emit(out, &text)
         }
         args::Command::ValidityMap(a) => {
             let model = commands::load_model(&a.model)?;
             let blocks = commands::validity_map(&model, &a.masses, &a.k, &a.variants, a.w_b)?;
-            let text = if a.json {
-                format::validity_json(&blocks)
-            } else {
-                format::validity_table(&blocks, &a.variants, a.w_b)
+            let text = match a.format {
+                args::Format::Json => format::validity_json(&blocks),
+                args::Format::Markdown => format::validity_markdown(&blocks, &a.variants, a.w_b),
+                args::Format::Table => format::validity_table(&blocks, &a.variants, a.w_b),
             };
             emit(out, &text)
         }
