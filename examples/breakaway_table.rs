@@ -16,8 +16,7 @@ use cortex_m_semihosting::hprintln;
 
 /// The paper's grid: k = 0.01, then 1 … 29 in steps of 2, and 30 N/s.
 const RATES: [f32; 17] = [
-    0.01, 1.0, 3.0, 5.0, 7.0, 9.0, 11.0, 13.0, 15.0, 17.0, 19.0, 21.0, 23.0, 25.0, 27.0, 29.0,
-    30.0,
+    0.01, 1.0, 3.0, 5.0, 7.0, 9.0, 11.0, 13.0, 15.0, 17.0, 19.0, 21.0, 23.0, 25.0, 27.0, 29.0, 30.0,
 ];
 
 #[entry]
@@ -31,7 +30,14 @@ fn main() -> ! {
     for variant in Variant::ALL {
         for k in RATES {
             match predictor.predict(&model, variant, k) {
-                Ok(ba) => hprintln!("ba {} {} {} {} {}", variant.name(), k, ba.v_b, ba.f_ba, ba.t_ba),
+                Ok(ba) => hprintln!(
+                    "ba {} {} {} {} {}",
+                    variant.name(),
+                    k,
+                    ba.v_b,
+                    ba.f_ba,
+                    ba.t_ba
+                ),
                 Err(_) => common::exit_failure("prediction failed"),
             }
         }

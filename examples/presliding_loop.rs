@@ -1,9 +1,62 @@
+//! A position trajectory with reversals and minor loops, run through the
+//! presliding state machine on the MCU (MODEL.md §3).
+//!
+//! The axis follows two superposed sinusoids in encoder counts of 10 nm
+//! (z_max = 1000 counts): large strokes into gross sliding with small
+//! back-and-forth loops inside presliding. Output, one line per sample:
+//! `s <count> <v> <F reference rule> <F closing, 8 turning points>`, then
+//! `done`. `cargo xtask test` re-runs the printed inputs through the f64
+//! reference and compares.
 #![no_std]
 #![no_main]
-#![allow(unsafe_code)]
+#![allow(unsafe_code)] // cortex-m-rt's `#[exception]` handler is an `unsafe fn`
+
 #[path = "common/mod.rs"]
 mod common;
-#[cortex_m_rt::entry]
+
+use breakaway::{Model, Presliding};
+use cortex_m_rt::entry;
+use cortex_m_semihosting::hprintln;
+
+/// Metres per encoder count.
+const COUNT: f32 = 1e-8;
+/// Sample period [s].
+const DT: f32 = 1e-3;
+const SAMPLES: i32 = 1200;
+
+/// Position in counts at sample `n`: a 1.6 z_max stroke with 0.3 z_max
+/// ripples at 7.3 times the frequency.
+fn trajectory(n: i32) -> i64 {
+    let t = n as f32 * DT;
+    let tau = 2.0 * core::f32::consts::PI;
+    let x = 1600.0 * libm::sinf(tau * 0.8 * t) + 300.0 * libm::sinf(tau * 5.84 * t);
+    libm::roundf(x) as i64
+}
+
+#[entry]
 fn main() -> ! {
+    let Ok(model) = Model::<f32>::new(common::FIG5) else {
+        common::exit_failure("invalid parameters");
+    };
+    let (Ok(mut single), Ok(mut closing)) = (
+        Presliding::<i64>::new(0, COUNT),
+        Presliding::<i64, f32, 8>::new(0, COUNT),
+    ) else {
+        common::exit_failure("invalid scale");
+    };
+    let mut last = 0;
+    for n in 0..SAMPLES {
+        let count = trajectory(n);
+        let v = (count - last) as f32 * COUNT / DT;
+        last = count;
+        match (
+            single.update(&model, count, v),
+            closing.update(&model, count, v),
+        ) {
+            (Ok(f), Ok(g)) => hprintln!("s {} {} {} {}", count, v, f, g),
+            _ => common::exit_failure("sample rejected"),
+        }
+    }
+    hprintln!("done");
     common::exit_success()
 }

@@ -1,6 +1,12 @@
 //! The Stribeck curve S(v) (MODEL.md §2) and the presliding shape
-//! g(w) = w·(1 − ln w) (MODEL.md §3) in `f32`, through `libm`.
+//! g(w) = w·(1 − ln w) (MODEL.md §3) in `f32`.
+//!
+//! The exponential and logarithm come from [`fastmath`](crate::fastmath)
+//! (single-precision kernels, errors of a few ulp), not from `libm`, whose
+//! `f32` functions compute in `f64`: software floating point on a
+//! Cortex-M4F.
 
+use crate::fastmath;
 use crate::params::{Param, ParamError, Params};
 use crate::scalar::Curves;
 
@@ -62,11 +68,14 @@ impl Curves<f32> for CurvesF32 {
             Exponent::Half => libm::sqrtf(r),
             Exponent::One => r,
             Exponent::Two => r * r,
-            Exponent::General(d) => libm::powf(r, d),
+            // r^δ = e^(δ·ln r); below the smallest normal float r^δ is
+            // negligible against 1 for any δ the model meets.
+            Exponent::General(d) if r >= f32::MIN_POSITIVE => fastmath::exp(d * fastmath::ln(r)),
+            Exponent::General(_) => 0.0,
         };
         // r is never NaN for finite v (inv_v is finite), so p ≥ 0 or +∞ and
         // exp(−p) is in [0, 1]: S stays in [Fc, Fs].
-        self.fc + self.rise * libm::expf(-p)
+        self.fc + self.rise * fastmath::exp(-p)
     }
 
     #[inline]
@@ -81,7 +90,8 @@ impl Curves<f32> for CurvesF32 {
 /// between its two ends.
 #[inline]
 pub fn shape_f32(w: f32) -> f32 {
-    if w <= 0.0 {
+    if w < 1e-30 {
+        // g(1e-30) = 7e-29: zero to f32 precision (also for w ≤ 0).
         0.0
     } else if w >= 1.0 {
         1.0
@@ -95,6 +105,6 @@ pub fn shape_f32(w: f32) -> f32 {
         let tail = 1.0 / 20.0 + u * (1.0 / 30.0 + u * (1.0 / 42.0));
         1.0 - u * u * (0.5 + u * (1.0 / 6.0 + u * (1.0 / 12.0 + u * tail)))
     } else {
-        w * (1.0 - libm::logf(w))
+        w * (1.0 - fastmath::ln(w))
     }
 }

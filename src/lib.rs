@@ -34,6 +34,7 @@
 
 pub mod breakaway;
 pub mod curves;
+pub mod fastmath;
 pub mod model;
 pub mod params;
 pub mod position;

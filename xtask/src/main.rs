@@ -6,23 +6,24 @@
 //!   through the system's package manager where that is allowed (else it
 //!   says exactly what to run).
 //! - `cargo xtask demo` sets up and runs the demo.
-//! - `cargo xtask test` sets up and runs every check.
+//! - `cargo xtask test` sets up and runs every check, the on-target checks
+//!   under QEMU included.
+//! - `cargo xtask profile` counts instructions per call under QEMU.
+
+mod checks;
+mod profile;
+mod qemu;
 
 use std::env;
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
 
-/// The Cortex-M targets the library is built for.
-const TARGETS: [&str; 3] = [
-    "thumbv7em-none-eabihf", // Cortex-M4F
-    "thumbv7m-none-eabi",    // Cortex-M3
-    "thumbv6m-none-eabi",    // Cortex-M0
-];
-
-const USAGE: &str = "usage: cargo xtask <setup|demo|test>
-  setup   install the rustup targets, rustfmt, clippy and qemu-system-arm (where allowed)
-  demo    set up, then print the break-away table of the paper's Fig. 5 setting
-  test    set up, then run every check (fmt, clippy, tests, Cortex-M builds)";
+const USAGE: &str = "usage: cargo xtask <setup|demo|test|profile>
+  setup    install the rustup targets, rustfmt, clippy and qemu-system-arm (where allowed)
+  demo     set up, then run the firmware examples on the Cortex-M4F under QEMU
+  test     set up, then run every check (fmt, clippy, host tests, on-target checks)
+  profile  [--target T] [--budget-hz 20000] [--cpu-hz 168000000] [--json]
+           instructions per call of the hot functions under QEMU";
 
 fn main() -> ExitCode {
     let args: Vec<String> = env::args().skip(1).collect();
@@ -30,6 +31,8 @@ fn main() -> ExitCode {
         Some("setup") => setup(),
         Some("demo") => setup().and_then(|()| demo()),
         Some("test") => setup().and_then(|()| test()),
+        Some("profile") => profile::Options::parse(&args[1..])
+            .and_then(|o| setup().and_then(|()| profile::run(&o))),
         Some("-h" | "--help") => {
             println!("{USAGE}");
             Ok(())
@@ -46,19 +49,19 @@ fn main() -> ExitCode {
 }
 
 /// The workspace root (the parent of this crate's directory).
-fn root() -> PathBuf {
+pub(crate) fn root() -> PathBuf {
     let manifest = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
     manifest.parent().map(Path::to_path_buf).unwrap_or(manifest)
 }
 
-fn cargo() -> Command {
+pub(crate) fn cargo() -> Command {
     let mut command = Command::new(env::var("CARGO").unwrap_or_else(|_| "cargo".into()));
     command.current_dir(root());
     command
 }
 
 /// Runs a command, echoing it; fails with its name on a non-zero exit.
-fn run(command: &mut Command) -> Result<(), String> {
+pub(crate) fn run(command: &mut Command) -> Result<(), String> {
     let shown = format!("{command:?}").replace('"', "");
     eprintln!("xtask: $ {shown}");
     let status = command
@@ -93,9 +96,9 @@ fn setup_rust() -> Result<(), String> {
                 .into(),
         );
     };
-    let missing: Vec<&str> = TARGETS
+    let missing: Vec<&str> = qemu::TARGETS
         .iter()
-        .copied()
+        .map(|t| t.triple)
         .filter(|t| !installed.lines().any(|l| l.trim() == *t))
         .collect();
     if !missing.is_empty() {
@@ -139,22 +142,63 @@ fn setup_qemu() {
 }
 
 fn demo() -> Result<(), String> {
-    run(cargo().args([
-        "run",
-        "--quiet",
-        "--release",
-        "-p",
-        "breakaway-lab",
-        "--",
-        "breakaway",
-        "--model",
-        "lab/models/fig5.toml",
-        "--k",
-        "0.01,0.1,1,3,10,30",
-        "--variant",
-        "all",
-        "--dynamic",
-    ]))
+    let target = qemu::TARGETS[0];
+    let table = qemu::run_example("breakaway_table", target)?;
+    println!(
+        "Break-away force F_ba(k) [N] computed on the {} (paper's Fig. 5 setting:",
+        target.core
+    );
+    println!("Fc = 1 N, Fs = 1.5 N, V = 1 mm/s, delta = 1, z_max = 10 um, w_b = 0.95)\n");
+    print_table(&table);
+    let samples = qemu::run_example("presliding_loop", target)?;
+    println!("\nPresliding friction along a trajectory with reversals and minor loops");
+    println!("(every 60th of 1200 samples; counts of 10 nm; z_max = 1000 counts)\n");
+    println!(
+        "{:>8} {:>12} {:>14} {:>14}",
+        "count", "v [m/s]", "F single [N]", "F closing [N]"
+    );
+    for line in samples.lines().filter(|l| l.starts_with("s ")).step_by(60) {
+        let f: Vec<&str> = line.split_whitespace().collect();
+        if let [_, x, v, a, b] = f[..] {
+            println!("{x:>8} {v:>12} {a:>14} {b:>14}");
+        }
+    }
+    println!();
+    profile::run(&profile::Options::default())
+}
+
+/// Prints the `ba` rows of `breakaway_table` as one row per k.
+fn print_table(output: &str) {
+    let rows: Vec<Vec<&str>> = output
+        .lines()
+        .filter(|l| l.starts_with("ba "))
+        .map(|l| l.split_whitespace().collect())
+        .collect();
+    println!(
+        "{:>8} {:>10} {:>10} {:>10} {:>10}",
+        "k [N/s]", "coulomb", "stiction", "mean", "consistent"
+    );
+    let ks: Vec<&str> = rows
+        .iter()
+        .filter(|r| r[1] == "coulomb")
+        .map(|r| r[2])
+        .collect();
+    for k in ks {
+        let value = |variant: &str| {
+            rows.iter()
+                .find(|r| r[1] == variant && r[2] == k)
+                .and_then(|r| r.get(4))
+                .and_then(|f| f.parse::<f64>().ok())
+                .map_or("-".to_string(), |f| format!("{f:.5}"))
+        };
+        println!(
+            "{k:>8} {:>10} {:>10} {:>10} {:>10}",
+            value("coulomb"),
+            value("stiction"),
+            value("mean"),
+            value("consistent")
+        );
+    }
 }
 
 fn test() -> Result<(), String> {
@@ -167,20 +211,28 @@ fn test() -> Result<(), String> {
         "-D",
         "warnings",
     ]))?;
-    // The library on every Cortex-M target, with and without its features.
-    for target in TARGETS {
-        run(cargo().args(["build", "--lib", "--release", "--target", target]))?;
+    // The library on every Cortex-M target, with and without its features,
+    // and the firmware examples.
+    for target in qemu::TARGETS {
+        let triple = target.triple;
+        run(cargo().args(["build", "--lib", "--release", "--target", triple]))?;
         run(cargo().args([
             "clippy",
             "--lib",
+            "--examples",
             "--target",
-            target,
+            triple,
             "--features",
-            "defmt,cortex-m",
+            "defmt,firmware",
             "--",
             "-D",
             "warnings",
         ]))?;
     }
-    run(cargo().args(["test", "--workspace"]))
+    run(cargo().args(["test", "--workspace"]))?;
+    // On-target checks under QEMU against the host f64 reference.
+    for line in checks::all()? {
+        println!("on-target: {line}");
+    }
+    profile::check_targets()
 }

@@ -1,0 +1,159 @@
+//! Friction with the effect catalogue composed, MODEL.md §5 on top of §2–§3.
+//!
+//! Per sample `(t, x, v)`:
+//!
+//! ```text
+//! sc  = (1 + a·d)·(1 + β·(t − t0))          d = 0 counts as no asymmetry
+//! Fc' = Fc·sc
+//! Fs' = Fs·sc + ΔFs·t_d/(t_d + γ)
+//! S   = Fc' + (Fs' − Fc')·exp(−(|v_s|/V)^δ),  v_s = v_l with frictional_lag, else v
+//! H   = the §3 one-turning-point rule (crate::Presliding) with this S
+//! F   = H + σ·v + F0 + A·sin(2π·x/λ + φ)
+//! ```
+//!
+//! `d` is the branch direction after this sample's presliding update (so the
+//! first motion and a confirmed reversal use the new direction's scaling).
+//!
+//! * `dwell_stiction`: `t_d` is the length of the most recent interval with
+//!   `|v| <= v_rest`, measured on the samples: it is `t − t_start` while at
+//!   rest (`t_start` the first sample of the rest), held once `|v| > v_rest`,
+//!   and reset to 0 at the first sample of a new rest. The record starts at
+//!   rest: `t_start = t0`, so `t_d = 0` at a first sample taken at `t0`.
+//! * `frictional_lag`: `v_l = v` at the first sample; between samples
+//!   `τ_L·dv_l/dt = v − v_l` is integrated exactly with `v` linear between the
+//!   two samples (first-order hold):
+//!   `v_l ← e·v_l + v₁ − e·v₀ − (v₁ − v₀)·(1 − e)·τ_L/h`, `e = exp(−h/τ_L)`.
+//! * `drift`: `t` is counted from `t0` given to [`Friction::new`].
+
+use crate::curves::stribeck_raw;
+use crate::model::Model;
+use crate::presliding::Presliding;
+use std::f64::consts::PI;
+
+/// Friction force of the full §5 composition, with its memory.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Friction {
+    pre: Presliding,
+    t0: f64,
+    first: bool,
+    t_prev: f64,
+    v_prev: f64,
+    v_l: f64,
+    resting: bool,
+    rest_start: f64,
+    t_d: f64,
+    f: f64,
+}
+
+impl Friction {
+    /// Friction at the start of a record: time `t0` [s], position `x0` [m]
+    /// (the idle presliding state sits there), velocity `v0` [m/s] (initial
+    /// lag state). No sample is taken; call [`Friction::update`] for each
+    /// sample, the first one typically at `(t0, x0, v0)`. `m` is not needed
+    /// yet (every update takes the model) and is accepted for symmetry.
+    pub fn new(m: &Model, t0: f64, x0: f64, v0: f64) -> Self {
+        let _ = m;
+        Friction {
+            pre: Presliding::new(x0),
+            t0,
+            first: true,
+            t_prev: t0,
+            v_prev: v0,
+            v_l: v0,
+            resting: true,
+            rest_start: t0,
+            t_d: 0.0,
+            f: 0.0,
+        }
+    }
+
+    /// Takes the sample at time `t` [s], position `x` [m], velocity `v` [m/s]
+    /// and returns the friction force `F` [N] of the §5 composition.
+    pub fn update(&mut self, m: &Model, t: f64, x: f64, v: f64) -> f64 {
+        let e = &m.effects;
+        // Frictional lag.
+        match &e.frictional_lag {
+            Some(lag) if !self.first => {
+                let h = t - self.t_prev;
+                if h > 0.0 {
+                    let r = h / lag.tau_l;
+                    let ex = (-r).exp();
+                    let phi = -(-r).exp_m1() / r; // (1 − e)·τ/h
+                    self.v_l = ex * self.v_l + v - ex * self.v_prev - (v - self.v_prev) * phi;
+                }
+            }
+            _ => self.v_l = v,
+        }
+        // Dwell time.
+        if let Some(dw) = &e.dwell_stiction {
+            if v.abs() <= dw.v_rest {
+                if !self.resting {
+                    self.resting = true;
+                    self.rest_start = t;
+                }
+                self.t_d = (t - self.rest_start).max(0.0);
+            } else {
+                self.resting = false;
+            }
+        }
+        self.first = false;
+        self.t_prev = t;
+        self.v_prev = v;
+
+        let drift = e.drift.map_or(1.0, |d| 1.0 + d.beta * (t - self.t0));
+        let asym = e.asymmetry.map_or(0.0, |a| a.a);
+        let dwell = e
+            .dwell_stiction
+            .map_or(0.0, |dw| dw.delta_fs * self.t_d / (self.t_d + dw.gamma));
+        let v_s = if e.frictional_lag.is_some() {
+            self.v_l
+        } else {
+            v
+        };
+        let s_of = |d: i8| {
+            let sc = (1.0 + asym * f64::from(d)) * drift;
+            stribeck_raw(m.fc * sc, m.fs * sc + dwell, m.v_stribeck, m.delta, v_s)
+        };
+        let h = self.pre.step(x, m.z_max, m.epsilon, s_of);
+        let mut f = h + m.sigma * v;
+        if let Some(o) = &e.offset {
+            f += o.f0;
+        }
+        if let Some(r) = &e.position_ripple {
+            f += r.amplitude * (2.0 * PI * x / r.wavelength + r.phase).sin();
+        }
+        self.f = f;
+        f
+    }
+
+    /// Friction force `F` [N] returned by the last update (0 before any).
+    pub fn force(&self) -> f64 {
+        self.f
+    }
+
+    /// Dry (hysteretic) part `H` [N] after the last update.
+    pub fn dry(&self) -> f64 {
+        self.pre.dry()
+    }
+
+    /// Branch direction `d` (−1, 0, +1).
+    pub fn direction(&self) -> i8 {
+        self.pre.direction()
+    }
+
+    /// The presliding memory (§3).
+    pub fn presliding(&self) -> &Presliding {
+        &self.pre
+    }
+
+    /// Dwell time `t_d` [s] (0 without `dwell_stiction`).
+    pub fn dwell_time(&self) -> f64 {
+        self.t_d
+    }
+
+    /// Lagged velocity `v_l` [m/s] after the last update (equal to `v`
+    /// without `frictional_lag`).
+    pub fn lagged_velocity(&self) -> f64 {
+        self.v_l
+    }
+}

@@ -1,0 +1,153 @@
+//! On-target checks: the firmware examples' results under QEMU against the
+//! host f64 reference (`breakaway-reference`), within the library's f32
+//! bounds (friction 1e-5·Fs, break-away 1e-4 relative).
+
+use breakaway_reference as reference;
+
+use crate::qemu::{self, Target};
+use crate::root;
+
+/// Relative bound on v_b, F_ba, t_ba (the core issue's f32 bound).
+const BREAKAWAY_BOUND: f64 = 1e-4;
+/// Bound on friction, in units of Fs.
+const FRICTION_BOUND: f64 = 1e-5;
+
+fn fig5() -> Result<reference::Model, String> {
+    let path = root().join("lab/models/fig5.toml");
+    reference::Model::load(&path).map_err(|e| e.to_string())
+}
+
+fn field(fields: &[&str], i: usize, line: &str) -> Result<f64, String> {
+    fields
+        .get(i)
+        .and_then(|s| s.parse::<f64>().ok())
+        .ok_or_else(|| format!("malformed firmware line `{line}`"))
+}
+
+/// The lines of an example's output that start with `tag`, after checking
+/// that the run ended with `done`.
+fn records<'a>(output: &'a str, tag: &str) -> Result<Vec<(&'a str, Vec<&'a str>)>, String> {
+    if output.lines().last() != Some("done") {
+        return Err("firmware output does not end with `done`".into());
+    }
+    Ok(output
+        .lines()
+        .filter_map(|line| {
+            let fields: Vec<&str> = line.split_whitespace().collect();
+            (fields.first() == Some(&tag)).then_some((line, fields))
+        })
+        .collect())
+}
+
+/// `breakaway_table`: every (variant, k) row against the reference.
+pub fn breakaway_table(target: Target) -> Result<String, String> {
+    let output = qemu::run_example("breakaway_table", target)?;
+    let model = fig5()?;
+    let rows = records(&output, "ba")?;
+    if rows.len() != 4 * 17 {
+        return Err(format!(
+            "breakaway_table printed {} rows, expected 68",
+            rows.len()
+        ));
+    }
+    let mut worst = 0.0f64;
+    for (line, fields) in &rows {
+        let variant = fields
+            .get(1)
+            .and_then(|name| reference::Variant::parse(name))
+            .ok_or_else(|| format!("unknown variant in `{line}`"))?;
+        let k = field(fields, 2, line)?;
+        let want = reference::predict_break_away(&model, variant, k, 0.95)
+            .map_err(|e| format!("reference: {e}"))?;
+        for (i, expected) in [(3, want.v_b), (4, want.f_ba), (5, want.t_ba)] {
+            let got = field(fields, i, line)?;
+            let error = ((got - expected) / expected).abs();
+            worst = worst.max(error);
+            if error.is_nan() || error > BREAKAWAY_BOUND {
+                return Err(format!(
+                    "{}: `{line}` column {i} is {got}, reference {expected} (rel. error {error:.2e})",
+                    target.core
+                ));
+            }
+        }
+    }
+    Ok(format!(
+        "breakaway_table on {}: {} rows, worst relative error {worst:.2e} (bound {BREAKAWAY_BOUND:.0e})",
+        target.core,
+        rows.len()
+    ))
+}
+
+/// `presliding_loop`: the reference rule against the f64 reference, and the
+/// closing variant against the same library built for the host.
+pub fn presliding_loop(target: Target) -> Result<String, String> {
+    let output = qemu::run_example("presliding_loop", target)?;
+    let model = fig5()?;
+    let rows = records(&output, "s")?;
+    if rows.len() != 1200 {
+        return Err(format!(
+            "presliding_loop printed {} rows, expected 1200",
+            rows.len()
+        ));
+    }
+    let count = 1e-8f32;
+    let host_model = breakaway::Model::<f32>::new(breakaway::Params {
+        fc: model.fc as f32,
+        fs: model.fs as f32,
+        v_stribeck: model.v_stribeck as f32,
+        delta: model.delta as f32,
+        sigma: model.sigma as f32,
+        z_max: model.z_max as f32,
+        epsilon: model.epsilon as f32,
+    })
+    .map_err(|e| e.to_string())?;
+    let mut judge = reference::Presliding::new(0.0);
+    let mut host =
+        breakaway::Presliding::<i64, f32, 8>::new(0, count).map_err(|e| e.to_string())?;
+    let (mut worst_ref, mut worst_host) = (0.0f64, 0.0f64);
+    for (line, fields) in &rows {
+        let position = fields
+            .get(1)
+            .and_then(|s| s.parse::<i64>().ok())
+            .ok_or_else(|| format!("malformed firmware line `{line}`"))?;
+        let v = field(fields, 2, line)? as f32;
+        let single = field(fields, 3, line)?;
+        let closing = field(fields, 4, line)?;
+        let want = judge.update(&model, position as f64 * count as f64, v as f64);
+        let error = (single - want).abs() / model.fs;
+        worst_ref = worst_ref.max(error);
+        if error.is_nan() || error > FRICTION_BOUND {
+            return Err(format!(
+                "{}: `{line}`: F = {single}, reference {want} ({error:.2e}·Fs)",
+                target.core
+            ));
+        }
+        let host_f = host
+            .update(&host_model, position, v)
+            .map_err(|e| e.to_string())?;
+        let error = (closing - host_f as f64).abs() / model.fs;
+        worst_host = worst_host.max(error);
+        if error.is_nan() || error > FRICTION_BOUND {
+            return Err(format!(
+                "{}: `{line}`: closing F = {closing}, host build {host_f}",
+                target.core
+            ));
+        }
+    }
+    Ok(format!(
+        "presliding_loop on {}: {} samples, reference rule vs f64 reference worst {worst_ref:.2e}·Fs, \
+         closing memory vs host build worst {worst_host:.2e}·Fs (bound {FRICTION_BOUND:.0e}·Fs)",
+        target.core,
+        rows.len()
+    ))
+}
+
+/// Every on-target check on every target.
+pub fn all() -> Result<Vec<String>, String> {
+    let mut report = Vec::new();
+    for target in qemu::TARGETS {
+        report.push(breakaway_table(target)?);
+        report.push(presliding_loop(target)?);
+    }
+    Ok(report)
+}

@@ -1,0 +1,152 @@
+//! Building the firmware examples and running them under QEMU.
+
+use std::io::Read;
+use std::path::PathBuf;
+use std::process::{Command, Stdio};
+use std::thread;
+use std::time::{Duration, Instant};
+
+use crate::{cargo, root, run};
+
+/// A Cortex-M target and the QEMU machine that runs it.
+#[derive(Clone, Copy, Debug)]
+pub struct Target {
+    /// The rustup target triple.
+    pub triple: &'static str,
+    /// QEMU's `-cpu`.
+    pub cpu: &'static str,
+    /// QEMU's `-machine`.
+    pub machine: &'static str,
+    /// A short name for reports.
+    pub core: &'static str,
+}
+
+/// The supported targets; the first is the default.
+pub const TARGETS: [Target; 3] = [
+    Target {
+        triple: "thumbv7em-none-eabihf",
+        cpu: "cortex-m4",
+        machine: "mps2-an386",
+        core: "Cortex-M4F",
+    },
+    Target {
+        triple: "thumbv7m-none-eabi",
+        cpu: "cortex-m3",
+        machine: "mps2-an385",
+        core: "Cortex-M3",
+    },
+    Target {
+        triple: "thumbv6m-none-eabi",
+        cpu: "cortex-m0",
+        machine: "microbit",
+        core: "Cortex-M0",
+    },
+];
+
+/// Looks a target up by triple.
+pub fn target(triple: &str) -> Result<Target, String> {
+    TARGETS
+        .iter()
+        .copied()
+        .find(|t| t.triple == triple)
+        .ok_or_else(|| {
+            let known: Vec<&str> = TARGETS.iter().map(|t| t.triple).collect();
+            format!("unknown target `{triple}` (known: {})", known.join(", "))
+        })
+}
+
+/// Builds a firmware example in release mode; returns the ELF's path.
+pub fn build(example: &str, target: Target) -> Result<PathBuf, String> {
+    run(cargo().args([
+        "build",
+        "--quiet",
+        "--release",
+        "--features",
+        "firmware",
+        "--example",
+        example,
+        "--target",
+        target.triple,
+    ]))?;
+    Ok(root()
+        .join("target")
+        .join(target.triple)
+        .join("release")
+        .join("examples")
+        .join(example))
+}
+
+/// Runs an ELF under QEMU with semihosting and extra QEMU arguments; returns
+/// its standard output. A non-zero exit status (panic, HardFault, failed
+/// check) or a run longer than `limit` is an error.
+pub fn execute(
+    elf: &PathBuf,
+    target: Target,
+    extra: &[&str],
+    limit: Duration,
+) -> Result<String, String> {
+    let mut child = Command::new("qemu-system-arm")
+        .args(["-cpu", target.cpu, "-machine", target.machine])
+        .args(["-nographic", "-monitor", "none"])
+        .args(["-semihosting-config", "enable=on,target=native"])
+        .args(extra)
+        .arg("-kernel")
+        .arg(elf)
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .map_err(|e| {
+            format!("could not start qemu-system-arm ({e}); install it: apt-get install qemu-system-arm")
+        })?;
+    let mut stdout = child.stdout.take().ok_or("no stdout pipe")?;
+    let reader = thread::spawn(move || {
+        let mut text = String::new();
+        let _ = stdout.read_to_string(&mut text);
+        text
+    });
+    let start = Instant::now();
+    let status = loop {
+        if let Some(status) = child.try_wait().map_err(|e| e.to_string())? {
+            break status;
+        }
+        if start.elapsed() > limit {
+            let _ = child.kill();
+            let _ = child.wait();
+            return Err(format!(
+                "{} on {} did not finish within {} s",
+                elf.display(),
+                target.machine,
+                limit.as_secs()
+            ));
+        }
+        thread::sleep(Duration::from_millis(20));
+    };
+    let text = reader.join().unwrap_or_default();
+    if status.success() {
+        Ok(text)
+    } else {
+        let mut stderr = String::new();
+        if let Some(mut e) = child.stderr.take() {
+            let _ = e.read_to_string(&mut stderr);
+        }
+        let tail: Vec<&str> = text.lines().rev().take(3).collect();
+        Err(format!(
+            "{} on {} exited with {status}: {} {}",
+            elf.display(),
+            target.machine,
+            tail.into_iter().rev().collect::<Vec<_>>().join(" | "),
+            stderr.lines().next().unwrap_or("")
+        ))
+    }
+}
+
+/// Builds and runs an example; returns its standard output.
+pub fn run_example(example: &str, target: Target) -> Result<String, String> {
+    let elf = build(example, target)?;
+    eprintln!(
+        "xtask: running {example} on {} ({})",
+        target.core, target.machine
+    );
+    execute(&elf, target, &[], Duration::from_secs(120))
+}
