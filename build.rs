@@ -10,7 +10,12 @@ use std::env;
 fn main() {
     println!("cargo:rerun-if-changed=build.rs");
     println!("cargo:rerun-if-changed=memory.x");
+    println!("cargo::rustc-check-cfg=cfg(breakaway_armv6m)");
     let target = env::var("TARGET").unwrap_or_default();
+    if target.starts_with("thumbv6m") {
+        // ARMv6-M has no DWT cycle counter: `cycles` is left out.
+        println!("cargo:rustc-cfg=breakaway_armv6m");
+    }
     if !target.starts_with("thumb") {
         return;
     }

@@ -61,7 +61,7 @@ impl Curves<f32> for CurvesF32 {
         })
     }
 
-    #[inline]
+    #[inline(always)]
     fn stribeck(&self, v: f32) -> f32 {
         let r = libm::fabsf(v) * self.inv_v;
         let p = match self.delta {
@@ -70,12 +70,15 @@ impl Curves<f32> for CurvesF32 {
             Exponent::Two => r * r,
             // r^δ = e^(δ·ln r); below the smallest normal float r^δ is
             // negligible against 1 for any δ the model meets.
-            Exponent::General(d) if r >= f32::MIN_POSITIVE => fastmath::exp(d * fastmath::ln(r)),
+            Exponent::General(d) if (f32::MIN_POSITIVE..f32::INFINITY).contains(&r) => {
+                fastmath::exp(d * fastmath::ln_normal(r))
+            }
+            Exponent::General(_) if r >= f32::MIN_POSITIVE => f32::INFINITY,
             Exponent::General(_) => 0.0,
         };
         // r is never NaN for finite v (inv_v is finite), so p ≥ 0 or +∞ and
         // exp(−p) is in [0, 1]: S stays in [Fc, Fs].
-        self.fc + self.rise * fastmath::exp(-p)
+        self.fc + self.rise * fastmath::exp_neg(p)
     }
 
     #[inline]
@@ -105,6 +108,6 @@ pub fn shape_f32(w: f32) -> f32 {
         let tail = 1.0 / 20.0 + u * (1.0 / 30.0 + u * (1.0 / 42.0));
         1.0 - u * u * (0.5 + u * (1.0 / 6.0 + u * (1.0 / 12.0 + u * tail)))
     } else {
-        w * (1.0 - fastmath::ln(w))
+        w * (1.0 - fastmath::ln_normal(w))
     }
 }

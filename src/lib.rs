@@ -34,6 +34,8 @@
 
 pub mod breakaway;
 pub mod curves;
+#[cfg(all(feature = "cortex-m", not(breakaway_armv6m)))]
+pub mod cycles;
 pub mod fastmath;
 pub mod model;
 pub mod params;

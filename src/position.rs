@@ -7,9 +7,9 @@
 //! position arrives in, and scaled to metres afterwards:
 //!
 //! - integer encoder counts (`i32`, `i64`) — exact at any distance; the
-//!   difference uses wrapping arithmetic, so an `i32` hardware counter that
-//!   wraps is handled as long as two compared positions lie less than 2³¹
-//!   counts apart (the state machine only compares positions within about
+//!   difference uses wrapping 32-bit arithmetic, so an `i32` hardware counter
+//!   that wraps is handled, as long as consecutive samples differ by less
+//!   than 2³¹ counts (the state machine only compares positions within about
 //!   z_max + ε + one sample's travel of each other);
 //! - `f32` metres — convenient, exact only while |x| is small compared with
 //!   z_max / 2⁻²³ (about 80 m for z_max = 10 µm to keep w within 1e-3):
@@ -48,6 +48,13 @@ impl Position<f32> for i32 {
     }
 }
 
+/// As for `i32`, the difference is taken on the low 32 bits (wrapping), so
+/// two compared positions must lie less than 2³¹ counts apart (21 m at 10 nm
+/// per count). The state machine only compares a sample with the extremum
+/// and the turning points of a branch that has not reached gross sliding,
+/// all within z_max + ε plus one sample's travel: the requirement is that
+/// consecutive samples differ by less than 2³¹ counts. A 64-bit absolute
+/// count therefore stays exact over any travel at the cost of a 32-bit one.
 impl Position<f32> for i64 {
     #[inline(always)]
     fn is_valid(self) -> bool {
@@ -55,6 +62,6 @@ impl Position<f32> for i64 {
     }
     #[inline(always)]
     fn travel_from(self, origin: Self, metres_per_unit: f32) -> f32 {
-        (self.wrapping_sub(origin) as f32 * metres_per_unit).saturate()
+        (self as i32).wrapping_sub(origin as i32) as f32 * metres_per_unit
     }
 }

@@ -121,8 +121,8 @@ pub struct Presliding<P = f32, T: Scalar = f32, const N: usize = 0> {
     memory: Vec<TurningPoint<T, P>, N>,
     /// Extremum reached in direction d on the current branch.
     extremum: P,
-    /// Dry friction at the extremum (held while a reversal is pending).
-    dry_at_extremum: T,
+    /// Dry friction H: its value at the extremum, held while a reversal is
+    /// pending.
     dry: T,
     force: T,
 }
@@ -158,7 +158,6 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
             base_is_target: false,
             memory: Vec::new(),
             extremum: start,
-            dry_at_extremum: T::ZERO,
             dry: T::ZERO,
             force: T::ZERO,
         }
@@ -182,7 +181,7 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
         if !position.is_valid() {
             return Err(SampleError::NonFinitePosition);
         }
-        let viscous = (model.sigma * velocity).saturate();
+        let viscous = model.sigma * velocity;
         if self.direction == 0 {
             let moved = position.travel_from(self.base.position, self.metres_per_unit);
             if moved > T::ZERO {
@@ -190,21 +189,21 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
             } else if moved < T::ZERO {
                 self.direction = -1;
             } else {
-                self.force = viscous;
-                return Ok(viscous);
+                self.force = viscous.saturate();
+                return Ok(self.force);
             }
         }
         let ahead = self.along(position.travel_from(self.extremum, self.metres_per_unit));
         if ahead >= T::ZERO {
             self.extremum = position;
-            self.dry_at_extremum = self.follow(model, position, velocity);
+            self.dry = self.follow(model, position, velocity);
         } else if -ahead > model.epsilon {
             self.reverse();
             self.extremum = position;
-            self.dry_at_extremum = self.follow(model, position, velocity);
+            self.dry = self.follow(model, position, velocity);
         }
         // else: a reversal is pending inside the deadband; H is held.
-        self.dry = self.dry_at_extremum;
+        // |H| ≤ Fs ≤ f32::MAX/4, so only σ·v can overflow (to ±∞, never NaN).
         self.force = (self.dry + viscous).saturate();
         Ok(self.force)
     }
@@ -253,10 +252,11 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
 
     /// A confirmed reversal at the extremum: it becomes the turning point of
     /// a new branch in the opposite direction.
+    #[inline(never)]
     fn reverse(&mut self) {
         let turning_point = TurningPoint {
             position: self.extremum,
-            dry: self.dry_at_extremum,
+            dry: self.dry,
         };
         if let Err(turning_point) = self.memory.push(turning_point) {
             // Full (always for N = 0): forget the oldest point.
@@ -277,53 +277,79 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
     }
 
     /// Dry friction H on the current branch at `position`, the extremum of
-    /// the branch; closes minor loops and forgets the memory in gross sliding.
+    /// the branch.
+    #[inline(always)]
     fn follow(&mut self, model: &Model<T>, position: P, velocity: T) -> T {
         let stribeck = self.along(model.curves.stribeck(velocity));
+        if N == 0 || self.memory.is_empty() {
+            if self.base_saturated {
+                return stribeck;
+            }
+            return self.towards_steady_state(model, self.base, position, stribeck);
+        }
+        self.follow_memory(model, position, stribeck)
+    }
+
+    /// H on the branch from `start` towards the steady state d·S(v) at
+    /// `position`; once there (w = 1) every stored loop is wiped out.
+    #[inline(always)]
+    fn towards_steady_state(
+        &mut self,
+        model: &Model<T>,
+        start: TurningPoint<T, P>,
+        position: P,
+        stribeck: T,
+    ) -> T {
+        let travel = self.along(position.travel_from(start.position, self.metres_per_unit));
+        let w = travel * model.inv_z_max;
+        if w < T::ONE {
+            let g = model.curves.shape(w);
+            return start.dry + (stribeck - start.dry) * g;
+        }
+        self.base = start;
+        self.base_saturated = true;
+        self.base_is_target = false;
+        self.memory.clear();
+        stribeck
+    }
+
+    /// [`follow`](Self::follow) with turning points in memory: closes minor
+    /// loops that the motion has passed, then evaluates the current branch.
+    #[inline(never)]
+    fn follow_memory(&mut self, model: &Model<T>, position: P, stribeck: T) -> T {
         loop {
             let len = self.memory.len();
             if len == 0 && self.base_saturated {
                 return stribeck;
             }
             let start = self.turning_point();
-            let travel = self.along(position.travel_from(start.position, self.metres_per_unit));
             let target = match len {
                 0 => None,
                 1 => self.base_is_target.then_some(self.base),
                 _ => self.memory.get(len - 2).copied(),
             };
-            if let Some(target) = target {
-                let span = self.along(
-                    target
-                        .position
-                        .travel_from(start.position, self.metres_per_unit),
-                );
-                if travel < span {
-                    let g = model.curves.shape(travel / span);
-                    return start.dry + (target.dry - start.dry) * g;
-                }
-                // Passed the previous turning point: the minor loop closes and
-                // the branch that led to the target resumes.
-                self.memory.truncate(len.saturating_sub(2));
-                if self.memory.is_empty() && (len == 1 || self.base_is_target) {
-                    // That branch was forgotten on overflow: go on from the
-                    // target towards the steady state instead (no jump).
-                    self.base = target;
-                    self.base_is_target = false;
-                }
-                continue;
+            let Some(target) = target else {
+                return self.towards_steady_state(model, start, position, stribeck);
+            };
+            let travel = self.along(position.travel_from(start.position, self.metres_per_unit));
+            let span = self.along(
+                target
+                    .position
+                    .travel_from(start.position, self.metres_per_unit),
+            );
+            if travel < span {
+                let g = model.curves.shape(travel / span);
+                return start.dry + (target.dry - start.dry) * g;
             }
-            let w = travel * model.inv_z_max;
-            if w < T::ONE {
-                let g = model.curves.shape(w);
-                return start.dry + (stribeck - start.dry) * g;
+            // Passed the previous turning point: the minor loop closes and
+            // the branch that led to the target resumes.
+            self.memory.truncate(len.saturating_sub(2));
+            if self.memory.is_empty() && (len == 1 || self.base_is_target) {
+                // That branch was forgotten on overflow: go on from the
+                // target towards the steady state instead (no jump).
+                self.base = target;
+                self.base_is_target = false;
             }
-            // Gross sliding: every stored loop is wiped out.
-            self.base = start;
-            self.base_saturated = true;
-            self.base_is_target = false;
-            self.memory.clear();
-            return stribeck;
         }
     }
 }

@@ -94,11 +94,24 @@ impl Scalar for f32 {
     }
     #[inline(always)]
     fn saturate(self) -> Self {
-        // NaN never reaches here from finite inputs; map it to 0 defensively.
-        if self.is_nan() {
-            0.0
+        if f32::is_finite(self) {
+            self
         } else {
-            self.clamp(-f32::MAX, f32::MAX)
+            overflowed(self)
         }
+    }
+}
+
+/// The rare path of `f32::saturate`: ±∞ → ±`f32::MAX`. NaN, which finite
+/// inputs never produce, maps to 0.
+#[cold]
+#[inline(never)]
+fn overflowed(x: f32) -> f32 {
+    if x > 0.0 {
+        f32::MAX
+    } else if x < 0.0 {
+        -f32::MAX
+    } else {
+        0.0
     }
 }
