@@ -19,7 +19,9 @@ mod common;
 
 use core::hint::black_box;
 
-use breakaway::{shape_f32, BreakAway, BreakAwayPredictor, Model, Presliding, Variant};
+use breakaway::{
+    shape_f32, BreakAway, BreakAwayPredictor, Model, Presliding, Scalar, Variant, Q16,
+};
 use cortex_m_rt::entry;
 use cortex_m_semihosting::hprintln;
 
@@ -55,6 +57,27 @@ fn bench_breakaway_f32(
     model: &Model,
     k: f32,
 ) -> Option<BreakAway<f32>> {
+    predictor.predict(model, Variant::Consistent, k).ok()
+}
+
+#[no_mangle]
+#[inline(never)]
+fn bench_update_fixed(
+    axis: &mut Presliding<i32, Q16>,
+    model: &Model<Q16>,
+    count: i32,
+    v: Q16,
+) -> Q16 {
+    axis.update(model, count, v).unwrap_or(Q16::ZERO)
+}
+
+#[no_mangle]
+#[inline(never)]
+fn bench_breakaway_fixed(
+    predictor: &BreakAwayPredictor<Q16>,
+    model: &Model<Q16>,
+    k: Q16,
+) -> Option<BreakAway<Q16>> {
     predictor.predict(model, Variant::Consistent, k).ok()
 }
 
@@ -122,7 +145,10 @@ fn dwt_note(axis: &mut Presliding<i64>, model: &Model) {
     };
     match CycleCounter::new(&mut core.DCB, &mut core.DWT) {
         None => hprintln!("dwt: this core has no cycle counter"),
-        Some(counter) => match counter.measure(|| bench_update_f32(axis, model, 123, 1e-4)).1 {
+        Some(counter) => match counter
+            .measure(|| bench_update_f32(axis, model, 123, 1e-4))
+            .1
+        {
             Cycles::Counted(n) => hprintln!("dwt: update_f32 took {} cycles", n),
             Cycles::NotCounting => {
                 hprintln!(
@@ -159,6 +185,19 @@ fn main() -> ! {
     let Ok(mut axis) = Presliding::<i64>::new(0, COUNT) else {
         common::exit_failure("invalid scale");
     };
+    let Ok(fixed) = Model::<Q16>::new(common::FIG5) else {
+        common::exit_failure("invalid fixed-point model");
+    };
+    let Some(scale) = fixed.position_scale(COUNT) else {
+        common::exit_failure("encoder scale out of range");
+    };
+    let (Ok(mut fixed_axis), Ok(fixed_predictor), Some(per_count)) = (
+        Presliding::<i32, Q16>::new(0, scale),
+        BreakAwayPredictor::new(&fixed, 0.95),
+        fixed.velocity(COUNT / DT),
+    ) else {
+        common::exit_failure("invalid fixed-point set-up");
+    };
     let p = common::FIG5;
     let mut plain = naive::Naive {
         fc: p.fc,
@@ -174,6 +213,7 @@ fn main() -> ! {
         h_ext: 0.0,
     };
     let mut last = 0;
+    let mut last_fixed = 0;
     let mut check = 0.0f32;
     for n in 0..2 * HALF {
         let count = trajectory(n);
@@ -182,6 +222,14 @@ fn main() -> ! {
         let f = bench_update_f32(&mut axis, &model, black_box(count), black_box(v));
         let g = bench_naive_libm_update(&mut plain, black_box(count as f32 * COUNT), black_box(v));
         check += black_box(f) - black_box(g);
+        let v_fixed = Q16::saturating_from_int((count - last_fixed) as i32) * per_count;
+        last_fixed = count;
+        black_box(bench_update_fixed(
+            &mut fixed_axis,
+            &fixed,
+            black_box(count as i32),
+            black_box(v_fixed),
+        ));
         black_box(bench_stribeck_f32(&model, black_box(v)));
         black_box(bench_shape_f32(black_box(
             (n as f32 + 0.5) / (2 * HALF) as f32,
@@ -191,6 +239,13 @@ fn main() -> ! {
         // k from 0.01 to 30 N/s, log-spaced.
         let k = 0.01 * libm::powf(3000.0, i as f32 / 63.0);
         black_box(bench_breakaway_f32(&predictor, &model, black_box(k)));
+        if let Some(k) = Q16::from_f32(k / p.fs) {
+            black_box(bench_breakaway_fixed(
+                &fixed_predictor,
+                &fixed,
+                black_box(k),
+            ));
+        }
     }
     // The anchor and the library agree (same model, same samples).
     hprintln!("anchor mismatch sum {}", check);

@@ -110,10 +110,20 @@ impl core::error::Error for PredictError {}
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct BreakAwayPredictor<T> {
-    /// −z_max/ln w_b [m]: v_b·F̂ = k·travel_per_rate.
-    travel_per_rate: T,
+    /// The constant τ = z_max/(|ln w_b|·V_unit) [s] of c = v_b·F̂ = k·τ.
+    rate: RateScale<T>,
     /// g(w_b).
     shape_at_boundary: T,
+}
+
+/// How c = k·τ is formed: by multiplying with τ, or, when τ < 1 s, by
+/// dividing by 1/τ, so that a fixed-point τ keeps its relative precision
+/// whatever its size.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+enum RateScale<T> {
+    Times(T),
+    Over(T),
 }
 
 /// The default break-away boundary w_b (the paper's z_0.95).
@@ -128,19 +138,25 @@ impl<T: Scalar> BreakAwayPredictor<T> {
         if !(w_b > 0.0 && w_b < 1.0) {
             return Err(PredictError::InvalidBoundary);
         }
-        let travel = -model.params().z_max / libm::logf(w_b);
-        let shape = crate::curves::shape_f32(w_b);
-        match (T::from_f32(travel), T::from_f32(shape)) {
-            (Some(travel_per_rate), Some(shape_at_boundary)) if travel.is_finite() => Ok(Self {
-                travel_per_rate,
+        // v·F̂ = k·z_max/|ln w_b|, in model units (time in seconds).
+        let tau = -model.params().z_max / (libm::logf(w_b) * model.units().velocity);
+        let rate = if tau >= 1.0 {
+            T::from_f32(tau).map(RateScale::Times)
+        } else {
+            T::from_f32(1.0 / tau).map(RateScale::Over)
+        };
+        match (rate, T::from_f32(crate::curves::shape_f32(w_b))) {
+            (Some(rate), Some(shape_at_boundary)) if tau.is_finite() && tau > 0.0 => Ok(Self {
+                rate,
                 shape_at_boundary,
             }),
             _ => Err(PredictError::InvalidBoundary),
         }
     }
 
-    /// The break-away under the force rate `k` [N/s] with the level F̂ of
-    /// `variant`.
+    /// The break-away under the force rate `k` (model force units per
+    /// second: N/s for `f32`) with the level F̂ of `variant`; v_b and F_ba come
+    /// in model units, t_ba in seconds.
     pub fn predict(
         &self,
         model: &Model<T>,
@@ -150,7 +166,11 @@ impl<T: Scalar> BreakAwayPredictor<T> {
         if !(k.is_finite() && k > T::ZERO) {
             return Err(PredictError::InvalidRate);
         }
-        let c = (k * self.travel_per_rate).saturate();
+        let c = match self.rate {
+            RateScale::Times(tau) => k * tau,
+            RateScale::Over(inv_tau) => k / inv_tau,
+        }
+        .saturate();
         let v_b = velocity_for(model, variant, c)?;
         let s = model.curves.stribeck(v_b);
         let viscous = (model.sigma * v_b).saturate();

@@ -37,6 +37,7 @@ pub mod curves;
 #[cfg(all(feature = "cortex-m", not(breakaway_armv6m)))]
 pub mod cycles;
 pub mod fastmath;
+pub mod fixed_point;
 pub mod model;
 pub mod params;
 pub mod position;
@@ -47,11 +48,12 @@ pub use crate::breakaway::{
     BreakAway, BreakAwayPredictor, PredictError, Variant, DEFAULT_BOUNDARY,
 };
 pub use crate::curves::{shape_f32, CurvesF32};
+pub use crate::fixed_point::{TableCurves, Q16};
 pub use crate::model::Model;
 pub use crate::params::{Param, ParamError, Params};
 pub use crate::position::Position;
 pub use crate::presliding::{Presliding, SampleError, ScaleError, TurningPoint};
-pub use crate::scalar::{Curves, Scalar};
+pub use crate::scalar::{Curves, Scalar, Units};
 
 /// The README's code blocks, compiled and run as doctests.
 #[cfg(doctest)]

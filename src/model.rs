@@ -1,15 +1,20 @@
 //! A validated parameter set ready for the per-sample path (MODEL.md §2–§3).
 
 use crate::params::{Param, ParamError, Params};
-use crate::scalar::{Curves, Scalar};
+use crate::scalar::{Curves, Scalar, Units};
 
 /// A validated friction model in the number type `T`: the coefficients that
 /// the [`Presliding`](crate::Presliding) state machine and the
 /// [`BreakAwayPredictor`](crate::BreakAwayPredictor) read. It holds no state;
 /// one model can serve many axes.
+///
+/// Quantities on the per-sample path are in the number type's
+/// [`Units`]: SI for `f32`, per-unit for fixed point (force in units of Fs,
+/// velocity in units of V, see [`fixed_point`](crate::fixed_point)).
 #[derive(Clone, Debug)]
 pub struct Model<T: Scalar = f32> {
     params: Params,
+    units: Units,
     pub(crate) curves: T::Curves,
     pub(crate) fc: T,
     pub(crate) fs: T,
@@ -32,20 +37,48 @@ impl<T: Scalar> Model<T> {
     /// ```
     pub fn new(params: Params) -> Result<Self, ParamError> {
         params.validate()?;
-        let convert = |param: Param, x: f32| T::from_f32(x).ok_or(ParamError::OutOfRange(param));
-        let inv_z_max = 1.0 / params.z_max;
+        let units = T::units(&params);
+        // A positive parameter must stay positive once scaled.
+        let convert = |param: Param, x: f32, positive: bool| {
+            T::from_f32(x)
+                .filter(|t| !positive || *t > T::ZERO)
+                .ok_or(ParamError::OutOfRange(param))
+        };
+        let inv_z_max = units.length / params.z_max;
         if !inv_z_max.is_finite() {
             return Err(ParamError::OutOfRange(Param::ZMax));
         }
         Ok(Self {
             curves: T::Curves::new(&params)?,
-            fc: convert(Param::Fc, params.fc)?,
-            fs: convert(Param::Fs, params.fs)?,
-            sigma: convert(Param::Sigma, params.sigma)?,
-            inv_z_max: convert(Param::ZMax, inv_z_max)?,
-            epsilon: convert(Param::Epsilon, params.epsilon)?,
+            fc: convert(Param::Fc, params.fc / units.force, true)?,
+            fs: convert(Param::Fs, params.fs / units.force, true)?,
+            sigma: convert(
+                Param::Sigma,
+                params.sigma * units.velocity / units.force,
+                false,
+            )?,
+            inv_z_max: convert(Param::ZMax, inv_z_max, true)?,
+            epsilon: convert(Param::Epsilon, params.epsilon / units.length, false)?,
+            units,
             params,
         })
+    }
+
+    /// The units of the model's numbers (SI for `f32`).
+    pub fn units(&self) -> Units {
+        self.units
+    }
+
+    /// A velocity [m/s] in model units, `None` when out of range.
+    pub fn velocity(&self, v: f32) -> Option<T> {
+        T::from_f32(v / self.units.velocity)
+    }
+
+    /// The position scale for [`Presliding::new`](crate::Presliding::new):
+    /// model length units per position unit, for positions in units of
+    /// `metres_per_unit` metres (an encoder count, or 1 for metres).
+    pub fn position_scale(&self, metres_per_unit: f32) -> Option<T> {
+        T::from_f32(metres_per_unit / self.units.length).filter(|t| *t > T::ZERO)
     }
 
     /// The parameters the model was built from.

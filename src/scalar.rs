@@ -40,6 +40,14 @@ pub trait Scalar:
     /// Clamps an overflowed result to the largest finite magnitude.
     fn saturate(self) -> Self;
 
+    /// The units in which this number type carries forces, velocities and
+    /// lengths for a parameter set: SI for `f32`; per-unit for fixed point
+    /// (see [`fixed_point`](crate::fixed_point)).
+    #[inline]
+    fn units(_params: &Params) -> Units {
+        Units::SI
+    }
+
     /// |self|.
     #[inline(always)]
     fn abs(self) -> Self {
@@ -61,13 +69,35 @@ pub trait Scalar:
     }
 }
 
+/// The units of a model's numbers, in SI: a force of 1 in model units is
+/// `force` newtons, and so on. Time is always in seconds.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Units {
+    /// Newtons per model force unit.
+    pub force: f32,
+    /// Metres per second per model velocity unit.
+    pub velocity: f32,
+    /// Metres per model length unit.
+    pub length: f32,
+}
+
+impl Units {
+    /// Plain SI units (the `f32` model).
+    pub const SI: Units = Units {
+        force: 1.0,
+        velocity: 1.0,
+        length: 1.0,
+    };
+}
+
 /// The non-polynomial functions of the model for one parameter set.
 pub trait Curves<T>: Sized + Clone {
     /// Builds the curves of a validated parameter set; `Err` names a parameter
     /// whose value cannot be represented in `T`.
     fn new(params: &Params) -> Result<Self, ParamError>;
-    /// Stribeck magnitude S(v) = Fc + (Fs − Fc)·exp(−(|v|/V)^δ) [N] at the
-    /// velocity `v` [m/s] (MODEL.md §2).
+    /// Stribeck magnitude S(v) = Fc + (Fs − Fc)·exp(−(|v|/V)^δ) at the
+    /// velocity `v` (MODEL.md §2), in model units (N and m/s for `f32`).
     fn stribeck(&self, v: T) -> T;
     /// Presliding shape g(w) = w·(1 − ln w) for `w` in [0, 1]; 0 for `w ≤ 0`,
     /// 1 for `w ≥ 1` (MODEL.md §3).
@@ -82,7 +112,7 @@ impl Scalar for f32 {
 
     #[inline(always)]
     fn from_f32(x: f32) -> Option<Self> {
-        Some(x)
+        x.is_finite().then_some(x)
     }
     #[inline(always)]
     fn to_f32(self) -> f32 {

@@ -148,6 +148,76 @@ pub fn all() -> Result<Vec<String>, String> {
     for target in qemu::TARGETS {
         report.push(breakaway_table(target)?);
         report.push(presliding_loop(target)?);
+        report.push(fixed_point(target)?);
     }
     Ok(report)
+}
+
+/// Bounds of the fixed-point model: friction in units of Fs, F_ba relative.
+const FIXED_FRICTION_BOUND: f64 = 1e-3;
+const FIXED_BREAKAWAY_BOUND: f64 = 1e-3;
+
+/// `fixed_point`: the Q16.16 model's friction and break-away against the f64
+/// reference, at the quantized inputs the MCU used.
+pub fn fixed_point(target: Target) -> Result<String, String> {
+    let output = qemu::run_example("fixed_point", target)?;
+    let model = fig5()?;
+    let raw = |fields: &[&str], i: usize, line: &str| field(fields, i, line).map(|x| x / 65536.0);
+    let samples = records(&output, "s")?;
+    if samples.len() != 600 {
+        return Err(format!(
+            "fixed_point printed {} samples, expected 600",
+            samples.len()
+        ));
+    }
+    let count = 1e-8f32 as f64;
+    let mut judge = reference::Presliding::new(0.0);
+    let mut worst_f = 0.0f64;
+    for (line, fields) in &samples {
+        let position = field(fields, 1, line)?;
+        let v = raw(fields, 2, line)? * model.v_stribeck;
+        let f = raw(fields, 3, line)? * model.fs;
+        let want = judge.update(&model, position * count, v);
+        let error = (f - want).abs() / model.fs;
+        worst_f = worst_f.max(error);
+        if error.is_nan() || error > FIXED_FRICTION_BOUND {
+            return Err(format!(
+                "{}: `{line}`: F = {f}, reference {want} ({error:.2e}·Fs)",
+                target.core
+            ));
+        }
+    }
+    let rows = records(&output, "ba")?;
+    if rows.len() != 20 {
+        return Err(format!(
+            "fixed_point printed {} break-away rows, expected 20",
+            rows.len()
+        ));
+    }
+    let mut worst_ba = 0.0f64;
+    for (line, fields) in &rows {
+        let variant = fields
+            .get(1)
+            .and_then(|name| reference::Variant::parse(name))
+            .ok_or_else(|| format!("unknown variant in `{line}`"))?;
+        let k = raw(fields, 2, line)? * model.fs;
+        let want = reference::predict_break_away(&model, variant, k, 0.95)
+            .map_err(|e| format!("reference: {e}"))?;
+        let f_ba = raw(fields, 4, line)? * model.fs;
+        let error = ((f_ba - want.f_ba) / want.f_ba).abs();
+        worst_ba = worst_ba.max(error);
+        if error.is_nan() || error > FIXED_BREAKAWAY_BOUND {
+            return Err(format!(
+                "{}: `{line}`: F_ba = {f_ba}, reference {} (rel. error {error:.2e})",
+                target.core, want.f_ba
+            ));
+        }
+    }
+    Ok(format!(
+        "fixed_point on {}: {} samples, worst |F − F_ref| {worst_f:.2e}·Fs (bound {FIXED_FRICTION_BOUND:.0e}); \
+         {} break-away rows, worst F_ba rel. error {worst_ba:.2e} (bound {FIXED_BREAKAWAY_BOUND:.0e})",
+        target.core,
+        samples.len(),
+        rows.len()
+    ))
 }

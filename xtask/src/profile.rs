@@ -32,12 +32,14 @@ use std::time::Duration;
 use crate::qemu::{self, Target};
 
 /// Rows of the profile: the wrapper symbol and the reported name.
-const ROWS: [(&str, &str); 5] = [
+const ROWS: [(&str, &str); 7] = [
     ("bench_update_f32", "update_f32"),
     ("bench_stribeck_f32", "stribeck_f32"),
     ("bench_shape_f32", "shape_f32"),
     ("bench_breakaway_f32", "breakaway_f32"),
     ("bench_naive_libm_update", "naive_libm_update"),
+    ("bench_update_fixed", "update_fixed"),
+    ("bench_breakaway_fixed", "breakaway_fixed"),
 ];
 
 /// Options of `cargo xtask profile`.

@@ -68,8 +68,18 @@ pub fn build(example: &str, target: Target) -> Result<PathBuf, String> {
         "--target",
         target.triple,
     ]))?;
-    Ok(root()
-        .join("target")
+    // Cargo's target directory: CARGO_TARGET_DIR when set, else ./target.
+    let target_dir = std::env::var_os("CARGO_TARGET_DIR")
+        .map(PathBuf::from)
+        .map(|dir| {
+            if dir.is_absolute() {
+                dir
+            } else {
+                root().join(dir)
+            }
+        })
+        .unwrap_or_else(|| root().join("target"));
+    Ok(target_dir
         .join(target.triple)
         .join("release")
         .join("examples")
