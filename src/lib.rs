@@ -33,11 +33,14 @@
 #![warn(missing_docs)]
 
 pub mod breakaway;
+pub mod compensation;
 pub mod curves;
 #[cfg(all(feature = "cortex-m", not(breakaway_armv6m)))]
 pub mod cycles;
 pub mod fastmath;
 pub mod fixed_point;
+#[cfg(feature = "hal")]
+pub mod hal;
 pub mod model;
 pub mod params;
 pub mod position;

@@ -17,8 +17,10 @@
 //! [`Error`] to a one-line message and an exit code.
 
 pub mod args;
+pub mod closed_loop;
 pub mod commands;
 pub mod format;
+pub mod lugre;
 
 /// The reference crate (the only model implementation the lab uses).
 pub(crate) use breakaway_reference as reference;
@@ -70,6 +72,9 @@ pub fn one_line(msg: &str) -> String {
 /// Runs the command line `args` (without the program name), writing the
 /// result to `out`.
 pub fn run(args: &[String], out: &mut dyn Write) -> Result<(), Error> {
+    if let Some(("closed-loop", rest)) = args.split_first().map(|(a, r)| (a.as_str(), r)) {
+        return closed_loop::command(rest, out);
+    }
     match args::parse(args)? {
         args::Command::Help => emit(out, args::USAGE),
         args::Command::Breakaway(a) => {

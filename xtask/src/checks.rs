@@ -150,6 +150,8 @@ pub fn all() -> Result<Vec<String>, String> {
         report.push(presliding_loop(target)?);
         report.push(fixed_point(target)?);
     }
+    // Cortex-M4F only: the loop simulates 40 s of plant in 5 µs steps.
+    report.push(closed_loop(qemu::TARGETS[0])?);
     Ok(report)
 }
 
@@ -219,5 +221,90 @@ pub fn fixed_point(target: Target) -> Result<String, String> {
         target.core,
         samples.len(),
         rows.len()
+    ))
+}
+
+/// Bounds of the on-target closed loop against the host benchmark (f32 plant
+/// and controller on the MCU, f64 reference plant on the host): relative, on
+/// the RMS and peak reversal errors and on the RMS effort.
+const CLOSED_LOOP_ERROR_BOUND: f64 = 0.05;
+const CLOSED_LOOP_EFFORT_BOUND: f64 = 0.01;
+
+/// `closed_loop`: the MCU's closed-loop figures on the MODEL.md plant against
+/// `breakaway-lab closed-loop`'s (the same constants, checked from the `cfg`
+/// line).
+pub fn closed_loop(target: Target) -> Result<String, String> {
+    use breakaway_lab::closed_loop as host;
+    let output = qemu::run_example("closed_loop", target)?;
+    let cfg = records(&output, "cfg")?;
+    let (line, fields) = cfg.first().ok_or("closed_loop printed no `cfg` line")?;
+    let expected = [
+        host::PERIOD,
+        host::AMPLITUDE,
+        host::FREQUENCY,
+        (host::DURATION / host::PERIOD).round(),
+        (host::WINDOW_START / host::PERIOD).round(),
+        host::OMEGA,
+        host::OBSERVER_BANDWIDTH,
+        host::ADAPTATION_RATE,
+        host::MODEL_SUBSTEPS as f64,
+    ];
+    for (i, want) in expected.iter().enumerate() {
+        let got = field(fields, i + 1, line)?;
+        if ((got - want) / want).abs() > 1e-6 {
+            return Err(format!(
+                "closed_loop: `{line}` field {} is {got}, the host benchmark uses {want}",
+                i + 1
+            ));
+        }
+    }
+    let rows = records(&output, "cl")?;
+    if rows.len() != host::COMPENSATORS.len() {
+        return Err(format!(
+            "closed_loop printed {} rows, expected {}",
+            rows.len(),
+            host::COMPENSATORS.len()
+        ));
+    }
+    let (mut worst_error, mut worst_effort) = (0.0f64, 0.0f64);
+    let mut summary = Vec::new();
+    for ((line, fields), compensator) in rows.iter().zip(host::COMPENSATORS) {
+        if fields.get(1) != Some(&compensator.name()) {
+            return Err(format!(
+                "closed_loop: `{line}`, expected {}",
+                compensator.name()
+            ));
+        }
+        let want = host::run(host::PlantKind::Model, compensator, host::Drift::None)?;
+        for (i, expected, bound) in [
+            (2, want.rms_error, CLOSED_LOOP_ERROR_BOUND),
+            (3, want.peak_reversal_error, CLOSED_LOOP_ERROR_BOUND),
+            (4, want.rms_effort, CLOSED_LOOP_EFFORT_BOUND),
+        ] {
+            let got = field(fields, i, line)?;
+            let error = ((got - expected) / expected).abs();
+            if i == 4 {
+                worst_effort = worst_effort.max(error);
+            } else {
+                worst_error = worst_error.max(error);
+            }
+            if error.is_nan() || error > bound {
+                return Err(format!(
+                    "{}: `{line}` column {i} is {got}, host {expected} (rel. error {error:.2e}, bound {bound})",
+                    target.core
+                ));
+            }
+        }
+        summary.push(format!(
+            "{} {:.2} um",
+            compensator.name(),
+            field(fields, 3, line)? * 1e6
+        ));
+    }
+    Ok(format!(
+        "closed_loop on {}: peak reversal errors {}; vs host worst {worst_error:.2e} on errors \
+         (bound {CLOSED_LOOP_ERROR_BOUND}), {worst_effort:.2e} on effort (bound {CLOSED_LOOP_EFFORT_BOUND})",
+        target.core,
+        summary.join(", ")
     ))
 }

@@ -223,7 +223,7 @@ fn test() -> Result<(), String> {
             "--target",
             triple,
             "--features",
-            "defmt,firmware",
+            "defmt,firmware,hal",
             "--",
             "-D",
             "warnings",

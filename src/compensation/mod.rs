@@ -1,0 +1,167 @@
+//! Friction compensation for a position or velocity loop: what a motion
+//! controller links in on top of the friction model.
+//!
+//! - [`Feedforward`]: the compensation force from the reference trajectory
+//!   (x_ref, v_ref) through the presliding model (MODEL.md §3), so that the
+//!   force ramps through a reversal along the hysteresis branch
+//!   H = H_r + (d·S(v) − H_r)·g(w) instead of switching sign as Fc·sgn(v)
+//!   does (the cause of quadrant glitches).
+//! - [`DisturbanceObserver`]: the nominal-plant inverse m_n·a of MODEL.md §1
+//!   with a first-order low-pass filter, estimating the force that the
+//!   feedforward does not explain (in the style of Iwasaki, Shibata and
+//!   Matsui, "Disturbance-observer-based nonlinear friction compensation in
+//!   table drive system", IEEE/ASME Trans. Mechatronics 4(1), 1999, cited by
+//!   the seed paper).
+//! - [`LevelAdaptation`]: a bounded, slow estimator of a common scale on Fc
+//!   and Fs (temperature, wear: the `drift` effect of MODEL.md §5), driven by
+//!   the observer's residual while sliding and frozen in presliding and at
+//!   rest.
+//! - [`BreakAwayDetector`]: online break-away detection under a rising force
+//!   command; keeps measured (k, F_ba) pairs (MODEL.md §4) in a fixed-capacity
+//!   buffer for a refit of the predictor on the host.
+//!
+//! All of it is `f32`, allocation-free and panic-free; settings are validated
+//! once at construction ([`ConfigError`] names the setting) and a non-finite
+//! sample is rejected without changing any state.
+
+mod adaptation;
+mod detection;
+mod feedforward;
+mod observer;
+
+pub use adaptation::{AdaptationConfig, LevelAdaptation};
+pub use detection::{BreakAwayDetector, DetectorConfig, Measurement};
+pub use feedforward::{Feedforward, FeedforwardConfig};
+pub use observer::{DisturbanceObserver, ObserverConfig};
+
+use core::fmt;
+
+/// Names a setting of a compensation block.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Setting {
+    /// [`FeedforwardConfig::gain`].
+    Gain,
+    /// [`FeedforwardConfig::deadband`].
+    Deadband,
+    /// [`FeedforwardConfig::limit`].
+    Limit,
+    /// [`ObserverConfig::mass`].
+    Mass,
+    /// [`ObserverConfig::bandwidth`].
+    Bandwidth,
+    /// The sample period of a block.
+    Period,
+    /// [`AdaptationConfig::rate`].
+    Rate,
+    /// [`AdaptationConfig::min_scale`].
+    MinScale,
+    /// [`AdaptationConfig::max_scale`].
+    MaxScale,
+    /// [`AdaptationConfig::min_speed`].
+    MinSpeed,
+    /// [`DetectorConfig::rest_speed`].
+    RestSpeed,
+    /// [`DetectorConfig::break_away_speed`].
+    BreakAwaySpeed,
+    /// [`DetectorConfig::min_rate`].
+    MinRate,
+    /// The break-away boundary w_b of [`BreakAwayDetector::new`].
+    Boundary,
+    /// The position scale (metres per position unit).
+    MetresPerUnit,
+    /// The force at full scale of the `hal` adapter.
+    FullScale,
+}
+
+impl Setting {
+    /// The setting's field name.
+    pub const fn key(self) -> &'static str {
+        match self {
+            Setting::Gain => "gain",
+            Setting::Deadband => "deadband",
+            Setting::Limit => "limit",
+            Setting::Mass => "mass",
+            Setting::Bandwidth => "bandwidth",
+            Setting::Period => "period",
+            Setting::Rate => "rate",
+            Setting::MinScale => "min_scale",
+            Setting::MaxScale => "max_scale",
+            Setting::MinSpeed => "min_speed",
+            Setting::RestSpeed => "rest_speed",
+            Setting::BreakAwaySpeed => "break_away_speed",
+            Setting::MinRate => "min_rate",
+            Setting::Boundary => "w_b",
+            Setting::MetresPerUnit => "metres_per_unit",
+            Setting::FullScale => "full_scale",
+        }
+    }
+}
+
+/// A setting outside its documented range (NaN and ±∞ included).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct ConfigError(pub Setting);
+
+impl fmt::Display for ConfigError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "setting `{}` is out of range", self.0.key())
+    }
+}
+
+impl core::error::Error for ConfigError {}
+
+/// A non-finite input sample, named; the sample is rejected and the state
+/// left unchanged.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum SignalError {
+    /// The force command u is NaN or infinite.
+    Command,
+    /// The velocity is NaN or infinite.
+    Velocity,
+    /// A model or feedforward force is NaN or infinite.
+    Force,
+}
+
+impl fmt::Display for SignalError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            SignalError::Command => "force command is not finite",
+            SignalError::Velocity => "velocity sample is not finite",
+            SignalError::Force => "force sample is not finite",
+        })
+    }
+}
+
+impl core::error::Error for SignalError {}
+
+/// `Ok(x)` when `x` is finite and `> 0`, else the setting.
+pub(crate) fn positive(x: f32, setting: Setting) -> Result<f32, ConfigError> {
+    if x.is_finite() && x > 0.0 {
+        Ok(x)
+    } else {
+        Err(ConfigError(setting))
+    }
+}
+
+/// `Ok(x)` when `x` is finite and `≥ 0`, else the setting.
+fn non_negative(x: f32, setting: Setting) -> Result<f32, ConfigError> {
+    if x.is_finite() && x >= 0.0 {
+        Ok(x)
+    } else {
+        Err(ConfigError(setting))
+    }
+}
+
+/// Clamps `x` to [−limit, limit]; finite for finite `limit`.
+#[inline(always)]
+fn clamp_symmetric(x: f32, limit: f32) -> f32 {
+    if x > limit {
+        limit
+    } else if x < -limit {
+        -limit
+    } else {
+        x
+    }
+}

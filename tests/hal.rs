@@ -1,0 +1,73 @@
+//! The `hal` adapter against a recording `SetDutyCycle` (run with
+//! `--features hal`).
+#![cfg(feature = "hal")]
+
+use breakaway::compensation::{ConfigError, Setting};
+use breakaway::hal::{DutyMode, PwmForce, WriteError};
+use embedded_hal::pwm::{ErrorType, SetDutyCycle};
+
+#[derive(Debug)]
+struct Recorder {
+    max: u16,
+    duty: Option<u16>,
+}
+
+impl ErrorType for Recorder {
+    type Error = core::convert::Infallible;
+}
+
+impl SetDutyCycle for Recorder {
+    fn max_duty_cycle(&self) -> u16 {
+        self.max
+    }
+    fn set_duty_cycle(&mut self, duty: u16) -> Result<(), Self::Error> {
+        assert!(duty <= self.max, "duty {duty} above max {}", self.max);
+        self.duty = Some(duty);
+        Ok(())
+    }
+}
+
+#[test]
+fn centered_scale_with_saturation() {
+    let pwm = Recorder {
+        max: 1000,
+        duty: None,
+    };
+    let mut out = PwmForce::new(pwm, 2.0, DutyMode::Centered).unwrap();
+    for (force, duty, saturated) in [
+        (0.0, 500, false),
+        (1.0, 750, false),
+        (-2.0, 0, false),
+        (2.0, 1000, false),
+        (5.0, 1000, true),
+        (-1e30, 0, true),
+        (0.0031, 501, false), // rounded to the nearest step of 4 mN
+    ] {
+        let a = out.write(force).unwrap();
+        assert_eq!((a.duty, a.saturated), (duty, saturated), "force {force}");
+        assert_eq!(out.inner().duty, Some(duty));
+        assert!((a.force - (duty as f32 / 500.0 - 1.0) * 2.0).abs() < 1e-6);
+    }
+    // A non-finite force leaves the output as it was.
+    assert_eq!(out.write(f32::NAN), Err(WriteError::NonFiniteForce));
+    assert_eq!(out.inner().duty, Some(501));
+}
+
+#[test]
+fn magnitude_scale_reports_the_direction() {
+    let pwm = Recorder {
+        max: 255,
+        duty: None,
+    };
+    let mut out = PwmForce::new(pwm, 3.0, DutyMode::Magnitude).unwrap();
+    let a = out.write(-1.5).unwrap();
+    assert_eq!(a.duty, 128);
+    assert!(a.reverse && !a.saturated);
+    assert!((a.force + 128.0 / 255.0 * 3.0).abs() < 1e-6);
+    let a = out.write(4.0).unwrap();
+    assert_eq!((a.duty, a.reverse, a.saturated), (255, false, true));
+    assert_eq!(
+        PwmForce::new(Recorder { max: 1, duty: None }, 0.0, DutyMode::Magnitude).unwrap_err(),
+        ConfigError(Setting::FullScale)
+    );
+}
