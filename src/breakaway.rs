@@ -25,6 +25,11 @@
 //! roughly m·k²·z_max / (F̂³·w_b·|ln w_b|³) ≪ 1 (MODEL.md §4, §8); beyond
 //! that, the full dynamics of the reference simulator are the judge.
 
+// Arithmetic here is on the generic number type `T`, whose operators are
+// total by the `Scalar` contract (IEEE `f32`; saturating `Q16`): no panic, no
+// wrap. Integer arithmetic is written with explicit wrapping or checks.
+#![allow(clippy::arithmetic_side_effects)]
+
 use crate::model::Model;
 use crate::scalar::{Curves, Scalar};
 

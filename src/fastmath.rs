@@ -62,7 +62,8 @@ pub fn exp_neg(p: f32) -> f32 {
     let n = y as i32; // ⌊y⌋ in [0, 125]
     let f = y - n as f32;
     let two_f = D0 + f * (D1 + f * (D2 + f * (D3 + f * (D4 + f * D5))));
-    two_f * f32::from_bits(((127 - n) as u32) << 23)
+    // n ≤ 125: the exponent field 127 − n is in [2, 127].
+    two_f * f32::from_bits((127i32.wrapping_sub(n) as u32) << 23)
 }
 
 /// e^x for any `x`: 0 below −87.33 (true value < 1.2e-38), +∞ above 88.72,
@@ -89,8 +90,10 @@ pub fn exp(x: f32) -> f32 {
     let nf = n as f32;
     let r = (x - nf * LN2_HI) - nf * LN2_LO;
     // 2ⁿ in two factors: 2¹²⁸ is not a float.
-    let half = f32::from_bits(((n / 2 + 127) as u32) << 23);
-    let rest = f32::from_bits(((n - n / 2 + 127) as u32) << 23);
+    // n in [−126, 128]: both exponent fields lie in [64, 191].
+    let half_n = n.wrapping_div(2);
+    let half = f32::from_bits((half_n.wrapping_add(127) as u32) << 23);
+    let rest = f32::from_bits((n.wrapping_sub(half_n).wrapping_add(127) as u32) << 23);
     exp_reduced(r) * half * rest
 }
 
@@ -98,11 +101,12 @@ pub fn exp(x: f32) -> f32 {
 #[inline(always)]
 pub fn ln_normal(x: f32) -> f32 {
     let bits = x.to_bits();
-    let mut e = ((bits >> 23) & 0xff) as i32 - 127;
+    // The exponent field is at most 255: e in [−126, 128].
+    let mut e = (((bits >> 23) & 0xff) as i32).wrapping_sub(127);
     let mut m = f32::from_bits((bits & 0x007f_ffff) | 0x3f80_0000);
     if m > core::f32::consts::SQRT_2 {
         m *= 0.5;
-        e += 1;
+        e = e.wrapping_add(1);
     }
     let s = (m - 1.0) / (m + 1.0);
     let s2 = s * s;

@@ -114,8 +114,9 @@ impl<const K: usize> Mul for Q16<K> {
     /// and a few instructions on ARMv7-M.
     #[inline(always)]
     fn mul(self, rhs: Self) -> Self {
-        let product = i64::from(self.to_bits()) * i64::from(rhs.to_bits());
-        let rounded = (product + (1 << 15)) >> 16;
+        // |product| ≤ 2⁶², so neither step can overflow i64.
+        let product = i64::from(self.to_bits()).wrapping_mul(i64::from(rhs.to_bits()));
+        let rounded = product.wrapping_add(1 << 15) >> 16;
         let bits = if rounded > i64::from(i32::MAX) {
             i32::MAX
         } else if rounded < i64::from(i32::MIN) {
@@ -196,6 +197,7 @@ impl<const K: usize> Position<Q16<K>> for i32 {
         true
     }
     #[inline(always)]
+    #[allow(clippy::arithmetic_side_effects)] // Q16 multiplication saturates
     fn travel_from(self, origin: Self, scale: Q16<K>) -> Q16<K> {
         Q16::saturating_from_int(self.wrapping_sub(origin)) * scale
     }
@@ -208,6 +210,7 @@ impl<const K: usize> Position<Q16<K>> for i64 {
         true
     }
     #[inline(always)]
+    #[allow(clippy::arithmetic_side_effects)] // Q16 multiplication saturates
     fn travel_from(self, origin: Self, scale: Q16<K>) -> Q16<K> {
         Q16::saturating_from_int((self as i32).wrapping_sub(origin as i32)) * scale
     }
@@ -277,32 +280,34 @@ impl<const K: usize, const E: usize> OctaveTable<K, E> {
         if r == 0 {
             return self.zero;
         }
-        let e = 31 - r.leading_zeros(); // 2ᵉ ≤ r < 2ᵉ⁺¹
+        // r ≠ 0, so leading_zeros ≤ 31: 2ᵉ ≤ r < 2ᵉ⁺¹. The shifts and
+        // differences below stay within [0, 32) by construction.
+        let e = 31u32.wrapping_sub(r.leading_zeros());
         if e as usize >= E {
             return self.end;
         }
-        let offset = r - (1 << e);
+        let offset = r.wrapping_sub(1 << e);
         let (j, frac14) = if e >= Self::LOG_K {
             // s fractional bits below the grid: interpolate on 14 of them.
-            let s = e - Self::LOG_K;
-            let frac = offset & ((1 << s) - 1);
+            let s = e.wrapping_sub(Self::LOG_K);
+            let frac = offset & (1u32 << s).wrapping_sub(1);
             let frac14 = if s >= 14 {
-                frac >> (s - 14)
+                frac >> s.wrapping_sub(14)
             } else {
-                frac << (14 - s)
+                frac << 14u32.wrapping_sub(s)
             };
             (offset >> s, frac14)
         } else {
             // Every raw value is a grid point.
-            (offset << (Self::LOG_K - e), 0)
+            (offset << Self::LOG_K.wrapping_sub(e), 0)
         };
-        let index = e as usize * K + j as usize;
+        let index = (e as usize).wrapping_mul(K).wrapping_add(j as usize);
         let flat = self.rows.as_flattened();
         let y0 = flat.get(index).copied().unwrap_or(self.end);
         if frac14 == 0 {
             return y0;
         }
-        let y1 = flat.get(index + 1).copied().unwrap_or(self.end);
+        let y1 = flat.get(index.wrapping_add(1)).copied().unwrap_or(self.end);
         // |y1 − y0| < 2¹⁷ for the model's curves, so the product fits.
         y0.wrapping_add(y1.wrapping_sub(y0).wrapping_mul(frac14 as i32) >> 14)
     }

@@ -31,6 +31,18 @@
 #![no_std]
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
+// No panic path on any input: no unwrap/expect/panic, no indexing that can
+// go out of bounds, no integer arithmetic that can overflow unchecked.
+#![cfg_attr(
+    not(test),
+    deny(
+        clippy::unwrap_used,
+        clippy::expect_used,
+        clippy::panic,
+        clippy::indexing_slicing,
+        clippy::arithmetic_side_effects
+    )
+)]
 
 pub mod breakaway;
 pub mod compensation;

@@ -1,5 +1,10 @@
 //! A validated parameter set ready for the per-sample path (MODEL.md §2–§3).
 
+// Arithmetic here is on the generic number type `T`, whose operators are
+// total by the `Scalar` contract (IEEE `f32`; saturating `Q16`): no panic, no
+// wrap. Integer arithmetic is written with explicit wrapping or checks.
+#![allow(clippy::arithmetic_side_effects)]
+
 use crate::params::{Param, ParamError, Params};
 use crate::scalar::{Curves, Scalar, Units};
 

@@ -45,6 +45,11 @@
 //! not return to where it started, and a periodic force below Fc can make the
 //! axis creep (MODEL.md §8).
 
+// Arithmetic here is on the generic number type `T`, whose operators are
+// total by the `Scalar` contract (IEEE `f32`; saturating `Q16`): no panic, no
+// wrap. Integer arithmetic is written with explicit wrapping or checks.
+#![allow(clippy::arithmetic_side_effects)]
+
 use heapless::Vec;
 
 use crate::model::Model;
@@ -273,7 +278,7 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
             }
             self.base_saturated = false;
         }
-        self.direction = -self.direction;
+        self.direction = if self.direction > 0 { -1 } else { 1 };
     }
 
     /// Dry friction H on the current branch at `position`, the extremum of
@@ -326,7 +331,7 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
             let target = match len {
                 0 => None,
                 1 => self.base_is_target.then_some(self.base),
-                _ => self.memory.get(len - 2).copied(),
+                _ => len.checked_sub(2).and_then(|i| self.memory.get(i)).copied(),
             };
             let Some(target) = target else {
                 return self.towards_steady_state(model, start, position, stribeck);

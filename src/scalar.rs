@@ -8,11 +8,20 @@
 //! `libm`; a fixed-point type can supply table-based curves instead and reuse
 //! the state machine and the predictor unchanged.
 
+// Arithmetic here is on the generic number type `T`, whose operators are
+// total by the `Scalar` contract (IEEE `f32`; saturating `Q16`): no panic, no
+// wrap. Integer arithmetic is written with explicit wrapping or checks.
+#![allow(clippy::arithmetic_side_effects)]
+
 use core::ops::{Add, Div, Mul, Neg, Sub};
 
 use crate::params::{ParamError, Params};
 
 /// A number type the friction model can run on.
+///
+/// Contract: the operators are total — they never panic and never wrap
+/// (IEEE arithmetic for floats, saturation for fixed point, division by zero
+/// included) — so the generic model code has no panic path.
 pub trait Scalar:
     Copy
     + PartialOrd

@@ -39,6 +39,23 @@ fn records<'a>(output: &'a str, tag: &str) -> Result<Vec<(&'a str, Vec<&'a str>)
         .collect())
 }
 
+/// `no_panic`: its panic handler calls a symbol that exists nowhere, so the
+/// release build links only if no panic path survives in the library
+/// functions it calls; it must also run to a clean exit.
+pub fn no_panic(target: Target) -> Result<String, String> {
+    qemu::run_example("no_panic", target).map_err(|e| {
+        format!(
+            "no_panic on {} (an undefined breakaway_panic_path_survived means a panic path): {e}",
+            target.core
+        )
+    })?;
+    Ok(format!(
+        "no_panic on {}: linked without a panic handler (no panic path in update, curves, \
+         predictor, compensation) and ran",
+        target.core
+    ))
+}
+
 /// `breakaway_table`: every (variant, k) row against the reference.
 pub fn breakaway_table(target: Target) -> Result<String, String> {
     let output = qemu::run_example("breakaway_table", target)?;
@@ -146,10 +163,12 @@ pub fn presliding_loop(target: Target) -> Result<String, String> {
 pub fn all() -> Result<Vec<String>, String> {
     let mut report = Vec::new();
     for target in qemu::TARGETS {
+        report.push(no_panic(target)?);
         report.push(breakaway_table(target)?);
         report.push(presliding_loop(target)?);
         report.push(fixed_point(target)?);
     }
+    report.push(long_run(qemu::TARGETS[0])?);
     // Cortex-M4F only: the loop simulates 40 s of plant in 5 µs steps.
     report.push(closed_loop(qemu::TARGETS[0])?);
     Ok(report)
@@ -306,5 +325,78 @@ pub fn closed_loop(target: Target) -> Result<String, String> {
          (bound {CLOSED_LOOP_ERROR_BOUND}), {worst_effort:.2e} on effort (bound {CLOSED_LOOP_EFFORT_BOUND})",
         target.core,
         summary.join(", ")
+    ))
+}
+
+/// `long_run`: 10⁶ samples of random motion on the MCU. The host replays the
+/// example's generator (xorshift64*, same seed and rules) through the f64
+/// reference and compares every printed sample, the last one included.
+pub fn long_run(target: Target) -> Result<String, String> {
+    let output = qemu::run_example("long_run", target)?;
+    let rows = records(&output, "s")?;
+    if rows.len() != 101 {
+        return Err(format!(
+            "long_run printed {} samples, expected 101",
+            rows.len()
+        ));
+    }
+    let mut model = fig5()?;
+    (model.delta, model.sigma) = (1.3, 0.2);
+    let count = 1e-8f32;
+    let mut judge = reference::Presliding::new(0.0);
+    let mut state: u64 = 0x9e37_79b9_7f4a_7c15;
+    let mut below = |n: u64| {
+        state ^= state >> 12;
+        state ^= state << 25;
+        state ^= state >> 27;
+        state.wrapping_mul(0x2545_f491_4f6c_dd1d) % n
+    };
+    let (mut x, mut target_x, mut step, mut v) = (0i64, 0i64, 1i64, 0.0f32);
+    let mut rows = rows.iter().peekable();
+    let mut worst = 0.0f64;
+    for n in 0..1_000_000u64 {
+        if x == target_x {
+            let len = 1 + below(3000) as i64;
+            target_x = if below(2) == 0 { x + len } else { x - len };
+            step = 1 + below(64) as i64;
+            v = (target_x - x).signum() as f32 * step as f32 * count / 1e-3;
+        } else if target_x > x {
+            x = (x + step).min(target_x);
+        } else {
+            x = (x - step).max(target_x);
+        }
+        let want = judge.update(&model, x as f64 * count as f64, v as f64);
+        if let Some((line, fields)) =
+            rows.next_if(|(_, f)| f.get(1) == Some(&n.to_string().as_str()))
+        {
+            if field(fields, 2, line)? != x as f64 {
+                return Err(format!(
+                    "long_run: `{line}`: position differs from the replay ({x})"
+                ));
+            }
+            let f = field(fields, 4, line)?;
+            let error = (f - want).abs() / model.fs;
+            worst = worst.max(error);
+            if error.is_nan() || error > FRICTION_BOUND {
+                return Err(format!(
+                    "{}: long_run `{line}`: F = {f}, reference {want} ({error:.2e}·Fs)",
+                    target.core
+                ));
+            }
+        }
+    }
+    let stat = records(&output, "stat")?;
+    let max_h = stat
+        .first()
+        .map(|(line, fields)| field(fields, 1, line))
+        .transpose()?
+        .unwrap_or(f64::NAN);
+    if max_h.is_nan() || max_h > model.fs * (1.0 + 1e-6) {
+        return Err(format!("long_run: |H| reached {max_h}, above Fs"));
+    }
+    Ok(format!(
+        "long_run on {}: 10^6 samples, 101 compared (last included), worst |ΔF| {worst:.2e}·Fs \
+         (bound {FRICTION_BOUND:.0e}), closing |H| ≤ {max_h}",
+        target.core
     ))
 }

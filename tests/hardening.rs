@@ -1,0 +1,174 @@
+//! Long runs and long travel (hardening): the library against the f64
+//! reference after 10⁸ samples of random motion, and after 10³ m of travel
+//! followed by a 2 µm reversal.
+
+use breakaway::{Model, Params, Presliding, Scalar, Q16};
+use breakaway_reference as reference;
+
+fn params() -> Params {
+    Params {
+        fc: 1.0,
+        fs: 1.5,
+        v_stribeck: 1e-3,
+        delta: 1.3,
+        sigma: 0.2,
+        z_max: 1e-5,
+        epsilon: 0.0,
+    }
+}
+
+fn reference_model(p: &Params) -> reference::Model {
+    reference::Model {
+        mass: 1.0,
+        fc: p.fc as f64,
+        fs: p.fs as f64,
+        v_stribeck: p.v_stribeck as f64,
+        delta: p.delta as f64,
+        sigma: p.sigma as f64,
+        z_max: p.z_max as f64,
+        epsilon: p.epsilon as f64,
+        effects: reference::Effects::default(),
+    }
+}
+
+/// xorshift64*: a small deterministic generator.
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
+    }
+    /// Uniform in [0, n).
+    fn below(&mut self, n: u64) -> u64 {
+        self.next() % n
+    }
+}
+
+/// 10⁸ samples of random motion: strokes of 1 count to 3·z_max with random
+/// speeds and rests, so about half the samples lie in presliding. The
+/// library (f32, 10 nm counts) tracks the reference (f64) as closely in the
+/// last 10⁶ samples as in the first 10⁶.
+#[test]
+fn hundred_million_samples_stay_finite_bounded_and_accurate() {
+    const SAMPLES: u64 = 100_000_000;
+    const WINDOW: u64 = 1_000_000;
+    let p = params();
+    let model = Model::<f32>::new(p).unwrap();
+    let judge_model = reference_model(&p);
+    let count = 1e-8f32;
+    let mut lib = Presliding::<i64>::new(0, count).unwrap();
+    let mut closing = Presliding::<i64, f32, 8>::new(0, count).unwrap();
+    let mut judge = reference::Presliding::new(0.0);
+    let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+    let (mut x, mut target, mut step, mut v) = (0i64, 0i64, 1i64, 0.0f32);
+    let (mut first, mut last, mut worst_closing_h) = (0.0f64, 0.0f64, 0.0f32);
+    for n in 0..SAMPLES {
+        if x == target {
+            // A new stroke: up to 3·z_max (3000 counts) either way, 1 to 64
+            // counts per sample, or a rest of a few samples.
+            let len = 1 + rng.below(3000) as i64;
+            target = if rng.below(2) == 0 { x + len } else { x - len };
+            step = 1 + rng.below(64) as i64;
+            v = (target - x).signum() as f32 * step as f32 * count / 1e-3;
+        } else {
+            x = if target > x {
+                (x + step).min(target)
+            } else {
+                (x - step).max(target)
+            };
+        }
+        let f = lib.update(&model, x, v).unwrap();
+        let g = closing.update(&model, x, v).unwrap();
+        assert!(
+            f.is_finite() && g.is_finite(),
+            "non-finite output at sample {n}"
+        );
+        worst_closing_h = worst_closing_h.max(closing.dry().abs());
+        if !(WINDOW..SAMPLES - WINDOW).contains(&n) {
+            let want = judge.update(&judge_model, x as f64 * count as f64, v as f64);
+            let error = (f as f64 - want).abs() / p.fs as f64;
+            if n < WINDOW {
+                first = first.max(error);
+            } else {
+                last = last.max(error);
+            }
+        } else {
+            judge.update(&judge_model, x as f64 * count as f64, v as f64);
+        }
+    }
+    println!(
+        "10^8 samples: worst |ΔF| first 10^6 {first:.3e}·Fs, last 10^6 {last:.3e}·Fs; \
+         closing memory {} of 8 points, |H| ≤ {worst_closing_h}",
+        closing.memory_len()
+    );
+    assert!(first <= 1e-5 && last <= 1e-5, "{first:e} {last:e}");
+    assert!(worst_closing_h <= p.fs * (1.0 + 1e-6));
+    assert!(closing.memory_len() <= 8);
+}
+
+/// 10³ m of gross sliding in 1 m samples, then a 2 µm reversal in 10 nm
+/// steps: presliding after the turn matches the reference as it would at
+/// the origin (encoder counts of 10 nm in an i64: 10¹¹ counts).
+#[test]
+fn thousand_metres_then_a_two_micrometre_reversal() {
+    let p = Params {
+        sigma: 0.0,
+        ..params()
+    };
+    let model = Model::<f32>::new(p).unwrap();
+    let fixed = Model::<Q16>::new(p).unwrap();
+    let judge_model = reference_model(&p);
+    let count = 1e-8f32;
+    let mut lib = Presliding::<i64>::new(0, count).unwrap();
+    let mut lib_fixed =
+        Presliding::<i64, Q16>::new(0, fixed.position_scale(count).unwrap()).unwrap();
+    let mut judge = reference::Presliding::new(0.0);
+    let v_out = 1.0f32; // 1 m/s
+    let mut x = 0i64;
+    let run = |lib: &mut Presliding<i64>,
+               lib_fixed: &mut Presliding<i64, Q16>,
+               judge: &mut reference::Presliding,
+               x: i64,
+               v: f32| {
+        let f = lib.update(&model, x, v).unwrap() as f64;
+        let v_q = fixed.velocity(v).unwrap_or(Q16::from_bits(i32::MAX));
+        let fq = lib_fixed.update(&fixed, x, v_q).unwrap().to_f32() as f64 * p.fs as f64;
+        let want = judge.update(&judge_model, x as f64 * count as f64, v as f64);
+        (f, fq, want)
+    };
+    // Out to 1000 m: 1000 samples of 10⁸ counts (1 m), then 10 µm more in
+    // 10 nm steps so the last samples are fine-grained.
+    for _ in 0..1000 {
+        x += 100_000_000;
+        run(&mut lib, &mut lib_fixed, &mut judge, x, v_out);
+    }
+    for _ in 0..1000 {
+        x += 1;
+        run(&mut lib, &mut lib_fixed, &mut judge, x, 1e-5);
+    }
+    assert!(lib.is_sliding());
+    // Reverse by 2 µm (200 counts, w = 0.2) at 10 µm/s.
+    let (mut worst, mut worst_fixed) = (0.0f64, 0.0f64);
+    let mut last = (0.0, 0.0, 0.0);
+    for _ in 0..200 {
+        x -= 1;
+        last = run(&mut lib, &mut lib_fixed, &mut judge, x, -1e-5);
+        worst = worst.max((last.0 - last.2).abs() / p.fs as f64);
+        worst_fixed = worst_fixed.max((last.1 - last.2).abs() / p.fs as f64);
+    }
+    println!(
+        "1000 m then 2 µm back: H = {:.6} N (reference {:.6} N); worst |ΔF| f32 {worst:.3e}·Fs, \
+         Q16 {worst_fixed:.3e}·Fs",
+        last.0, last.2
+    );
+    // 2 µm into the new branch, H has moved from +S towards −S by g(0.2).
+    assert!(last.2 < 0.5 && last.2 > -1.5);
+    assert!(worst <= 1e-5, "{worst:e}");
+    assert!(worst_fixed <= 1e-3, "{worst_fixed:e}");
+    // The same reversal with f32 absolute metres at 1000 m cannot resolve
+    // 2 µm (f32 spacing there is 61 µm): the reason positions are counts.
+    assert_eq!(1000.0f32 - 2e-6, 1000.0f32);
+}
