@@ -18,6 +18,7 @@
 use crate::model::Model;
 use crate::position::Position;
 use crate::presliding::{Presliding, SampleError};
+use crate::scalar::Scalar;
 
 use super::{clamp_symmetric, non_negative, positive, ConfigError, Setting};
 
@@ -104,8 +105,12 @@ impl<P: Position<f32>, const N: usize> Feedforward<P, N> {
         };
         let f = self.state.update(model, x_ref, v)?;
         let dry = self.state.dry();
-        // f − dry = σ·v (saturated): only the dry part scales with θ.
-        let u = self.config.gain * (self.scale * dry + (f - dry));
+        // f − dry = σ·v (saturated): only the dry part scales with θ. Each
+        // product is saturated before the sum, so extreme settings give
+        // ±∞ at worst (clamped below), never NaN (no 0·∞, no ∞ − ∞).
+        let level = (self.config.gain * (self.scale * dry).saturate()).saturate();
+        let viscous = (self.config.gain * (f - dry).saturate()).saturate();
+        let u = level + viscous;
         self.force = clamp_symmetric(u, self.config.limit);
         Ok(self.force)
     }

@@ -11,6 +11,7 @@
 //! - `cargo xtask profile` counts instructions per call under QEMU.
 
 mod checks;
+mod fuzz;
 mod profile;
 mod qemu;
 
@@ -23,7 +24,8 @@ const USAGE: &str = "usage: cargo xtask <setup|demo|test|profile>
   demo     set up, then run the firmware examples on the Cortex-M4F under QEMU
   test     set up, then run every check (fmt, clippy, host tests, on-target checks)
   profile  [--target T] [--budget-hz 20000] [--cpu-hz 168000000] [--json]
-           instructions per call of the hot functions under QEMU";
+           instructions per call of the hot functions under QEMU
+  fuzz     [--seconds 60] [--target NAME]  the cargo-fuzz targets (nightly)";
 
 fn main() -> ExitCode {
     let args: Vec<String> = env::args().skip(1).collect();
@@ -33,6 +35,9 @@ fn main() -> ExitCode {
         Some("test") => setup().and_then(|()| test()),
         Some("profile") => profile::Options::parse(&args[1..])
             .and_then(|o| setup().and_then(|()| profile::run(&o))),
+        Some("fuzz") => fuzz::Options::parse(&args[1..])
+            .and_then(|o| setup().and_then(|()| fuzz::fuzz(&o)))
+            .map(|lines| lines.iter().for_each(|l| println!("{l}"))),
         Some("-h" | "--help") => {
             println!("{USAGE}");
             Ok(())
@@ -75,7 +80,7 @@ pub(crate) fn run(command: &mut Command) -> Result<(), String> {
 }
 
 /// Captures a command's stdout, or `None` when it cannot run or fails.
-fn output(program: &str, args: &[&str]) -> Option<String> {
+pub(crate) fn output(program: &str, args: &[&str]) -> Option<String> {
     let out = Command::new(program).args(args).output().ok()?;
     out.status
         .success()
@@ -234,5 +239,14 @@ fn test() -> Result<(), String> {
     for line in checks::all()? {
         println!("on-target: {line}");
     }
-    profile::check_targets()
+    profile::check_targets()?;
+    // Every fuzz target builds and runs briefly (longer: `cargo xtask fuzz`).
+    let smoke = fuzz::Options {
+        seconds: 10,
+        targets: Vec::new(),
+    };
+    for line in fuzz::fuzz(&smoke)? {
+        println!("fuzz: {line}");
+    }
+    Ok(())
 }
