@@ -5,6 +5,7 @@
 use breakaway::compensation::{
     AdaptationConfig, BreakAwayDetector, ConfigError, DetectorConfig, DisturbanceObserver,
     Feedforward, FeedforwardConfig, LevelAdaptation, ObserverConfig, Setting, SignalError,
+    SplitLevelAdaptation,
 };
 use breakaway::{Model, Params, SampleError, Variant};
 use breakaway_reference as reference;
@@ -336,6 +337,139 @@ fn adaptation_is_frozen_bounded_and_rejects_bad_samples() {
     ] {
         assert_eq!(LevelAdaptation::new(c).unwrap_err(), ConfigError(s));
     }
+}
+
+/// A velocity PI loop on the reference plant with levels (Fc·kc, Fs·ks)
+/// and the compensator's curve, the speed stepping between `slow` and
+/// `fast` every 0.25 s without reversing (always sliding); the feedforward
+/// runs on the levels of a [`SplitLevelAdaptation`].
+fn split_run(kc: f64, ks: f64, slow: f64, fast: f64, seconds: f64) -> (SplitLevelAdaptation, f32) {
+    const T: f32 = 1e-3;
+    let nominal = Model::<f32>::new(FIG5).unwrap();
+    let mut plant_model = reference_model(&FIG5, 1.0, 1.0);
+    plant_model.fc *= kc;
+    plant_model.fs *= ks;
+    let mut plant = Plant::new(plant_model);
+    let mut ff = Feedforward::<f32>::new(FeedforwardConfig::default(), 0.0, 1.0).unwrap();
+    let mut observer = DisturbanceObserver::new(ObserverConfig {
+        mass: 1.0,
+        bandwidth: 100.0,
+        period: T,
+    })
+    .unwrap();
+    let mut adaptation = SplitLevelAdaptation::new(
+        AdaptationConfig {
+            rate: 2.0,
+            min_scale: 0.5,
+            max_scale: 2.0,
+            min_speed: 1e-3,
+            period: T,
+        },
+        100.0,
+    )
+    .unwrap();
+    let (mut integral, mut u, mut u_ff, mut x_ref) = (0.0f64, 0.0f64, 0.0f32, 0.0f64);
+    let mut worst_residual = 0.0f32;
+    let steps = (seconds / T as f64) as usize;
+    for n in 0..steps {
+        let t = n as f64 * T as f64;
+        let v_ref = if (t / 0.25) as usize % 2 == 0 {
+            fast
+        } else {
+            slow
+        };
+        x_ref += v_ref * T as f64;
+        let r = observer.update(u as f32, plant.v as f32, u_ff).unwrap();
+        adaptation
+            .update(&nominal, r, v_ref as f32, ff.is_sliding())
+            .unwrap();
+        let adapted = Model::<f32>::new(adaptation.params(&FIG5)).unwrap();
+        u_ff = ff.update(&adapted, x_ref as f32, v_ref as f32).unwrap();
+        if t > seconds - 0.5 {
+            worst_residual = worst_residual.max(r.abs());
+        }
+        let e = v_ref - plant.v;
+        integral += e * T as f64;
+        u = 300.0 * e + 3000.0 * integral + u_ff as f64;
+        plant.step(u, T as f64);
+    }
+    (adaptation, worst_residual)
+}
+
+#[test]
+fn split_adaptation_recovers_separate_level_drifts() {
+    // Fc alone +20 % (Fs unchanged): a single scale cannot follow it, the
+    // split estimate recovers θc = 1.2 and keeps θs = 1.
+    let (a, residual) = split_run(1.2, 1.0, 1.5e-3, 10e-3, 12.0);
+    let (c, s) = a.scales();
+    assert!((c - 1.2).abs() < 0.02 && (s - 1.0).abs() < 0.03, "{c} {s}");
+    assert!(residual < 0.05, "residual {residual} N");
+    // Fs alone −10 %, Fc +10 %.
+    let (a, _) = split_run(1.1, 0.9, 1.5e-3, 10e-3, 12.0);
+    let (c, s) = a.scales();
+    assert!((c - 1.1).abs() < 0.02 && (s - 0.9).abs() < 0.03, "{c} {s}");
+    let p = a.params(&FIG5);
+    assert!(p.fs >= p.fc && (p.fc - 1.1 * FIG5.fc).abs() < 0.02);
+}
+
+#[test]
+fn split_adaptation_is_frozen_bounded_and_rejects_bad_samples() {
+    let config = AdaptationConfig {
+        rate: 10.0,
+        min_scale: 0.5,
+        max_scale: 1.5,
+        min_speed: 1e-3,
+        period: 1e-3,
+    };
+    let model = Model::<f32>::new(FIG5).unwrap();
+    let mut a = SplitLevelAdaptation::new(config, 100.0).unwrap();
+    // In presliding, or too slow: frozen.
+    assert_eq!(a.update(&model, 0.5, 0.1, false).unwrap(), (1.0, 1.0));
+    assert_eq!(a.update(&model, 0.5, 1e-4, true).unwrap(), (1.0, 1.0));
+    // Sliding fast (e ≈ 0): a residual against the motion lowers the
+    // Coulomb scale; the stiction scale, not excited, barely moves.
+    for _ in 0..50 {
+        a.update(&model, -0.5, 0.1, true).unwrap();
+    }
+    let (c, s) = a.scales();
+    assert!(c < 0.9 && (s - 1.0).abs() < 0.05, "{c} {s}");
+    // Bounded, and Fs·θs ≥ Fc·θc.
+    for _ in 0..5000 {
+        a.update(&model, 100.0, -0.1, true).unwrap();
+    }
+    let (c, s) = a.scales();
+    assert!(
+        (0.5..=1.5).contains(&c) && (0.5..=1.5).contains(&s),
+        "{c} {s}"
+    );
+    assert!(s * FIG5.fs >= c * FIG5.fc * 0.9999);
+    let before = a.clone();
+    assert_eq!(
+        a.update(&model, f32::NAN, 0.1, true),
+        Err(SignalError::Force)
+    );
+    assert_eq!(
+        a.update(&model, 1.0, f32::INFINITY, true),
+        Err(SignalError::Velocity)
+    );
+    assert_eq!(a, before);
+    a.reset();
+    assert_eq!(a.scales(), (1.0, 1.0));
+    assert_eq!(
+        SplitLevelAdaptation::new(config, 0.0).unwrap_err(),
+        ConfigError(Setting::Bandwidth)
+    );
+    assert_eq!(
+        SplitLevelAdaptation::new(
+            AdaptationConfig {
+                rate: 2000.0,
+                ..config
+            },
+            100.0
+        )
+        .unwrap_err(),
+        ConfigError(Setting::Rate)
+    );
 }
 
 #[test]

@@ -25,6 +25,8 @@ USAGE:
   validity-map  quasi-static vs full dynamics over masses x force rates, with the inertia
                 number Λ = m*k^2*z_max/(F̂^3*w_b*|ln w_b|^3) (F̂ = (Fc+Fs)/2, MODEL.md §4)
                 and Π = sqrt(2*Fs*z_max/m)/V (MODEL.md §8)
+  diagnose, fit, validate, synth, static-curve
+                the discrepancy workflow: see `breakaway-lab diagnose --help`
 
 OPTIONS:
   --model FILE    model file, TOML as in MODEL.md §7

@@ -19,8 +19,16 @@
 pub mod args;
 pub mod closed_loop;
 pub mod commands;
+pub mod data;
+pub mod diagnose;
+pub mod fit;
 pub mod format;
 pub mod lugre;
+pub mod progress;
+pub mod static_curve;
+pub mod svg;
+pub mod synth;
+pub mod workflow;
 
 /// The reference crate (the only model implementation the lab uses).
 pub(crate) use breakaway_reference as reference;
@@ -74,6 +82,9 @@ pub fn one_line(msg: &str) -> String {
 pub fn run(args: &[String], out: &mut dyn Write) -> Result<(), Error> {
     if let Some(("closed-loop", rest)) = args.split_first().map(|(a, r)| (a.as_str(), r)) {
         return closed_loop::command(rest, out);
+    }
+    if let Some(result) = workflow::dispatch(args, out) {
+        return result;
     }
     match args::parse(args)? {
         args::Command::Help => emit(out, args::USAGE),

@@ -15,7 +15,7 @@
 //! - [`LevelAdaptation`]: a bounded, slow estimator of a common scale on Fc
 //!   and Fs (temperature, wear: the `drift` effect of MODEL.md §5), driven by
 //!   the observer's residual while sliding and frozen in presliding and at
-//!   rest.
+//!   rest; [`SplitLevelAdaptation`] estimates separate scales on Fc and Fs.
 //! - [`BreakAwayDetector`]: online break-away detection under a rising force
 //!   command; keeps measured (k, F_ba) pairs (MODEL.md §4) in a fixed-capacity
 //!   buffer for a refit of the predictor on the host.
@@ -29,7 +29,9 @@ mod detection;
 mod feedforward;
 mod observer;
 
-pub use adaptation::{AdaptationConfig, LevelAdaptation};
+pub use adaptation::{
+    AdaptationConfig, LevelAdaptation, SplitLevelAdaptation, SPLIT_REGULARISATION,
+};
 pub use detection::{BreakAwayDetector, DetectorConfig, Measurement};
 pub use feedforward::{Feedforward, FeedforwardConfig};
 pub use observer::{DisturbanceObserver, ObserverConfig};

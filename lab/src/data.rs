@@ -1,0 +1,292 @@
+//! Measured records (MODEL.md §6): the CSV layout and the EMPS MATLAB v5
+//! layout, read strictly.
+//!
+//! * CSV: one header line, comma-separated; required columns `t` [s]
+//!   (strictly increasing), `u` [N], `x` [m]; optional `v` [m/s]; any order,
+//!   other columns ignored; lines starting with `#` and blank lines skipped.
+//! * `.mat` (MATLAB v5, the EMPS benchmark): `t ← t`, `x ← qm`,
+//!   `u ← gtau·vir`.
+//!
+//! Every error is one line that names the file and the line (CSV) or the
+//! variable and element (`.mat`) at fault. Input files are only read.
+
+use crate::Error;
+use std::path::Path;
+
+/// Fewest samples a record may have.
+pub const MIN_SAMPLES: usize = 100;
+
+/// A measured record: time, actuation force, position, optional velocity.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Record {
+    /// Time `t` [s], strictly increasing.
+    pub t: Vec<f64>,
+    /// Actuation force `u` [N], held from one sample to the next.
+    pub u: Vec<f64>,
+    /// Position `x` [m].
+    pub x: Vec<f64>,
+    /// Measured velocity `v` [m/s], when the file has it.
+    pub v: Option<Vec<f64>>,
+    /// Where the record came from (file name), for messages.
+    pub source: String,
+}
+
+impl Record {
+    /// Number of samples.
+    pub fn len(&self) -> usize {
+        self.t.len()
+    }
+
+    /// True when the record holds no sample.
+    pub fn is_empty(&self) -> bool {
+        self.t.is_empty()
+    }
+
+    /// Median sampling interval [s].
+    pub fn dt(&self) -> f64 {
+        let mut d: Vec<f64> = self.t.windows(2).map(|w| w[1] - w[0]).collect();
+        if d.is_empty() {
+            return f64::NAN;
+        }
+        d.sort_by(f64::total_cmp);
+        d[d.len() / 2]
+    }
+}
+
+fn err(path: &Path, msg: impl std::fmt::Display) -> Error {
+    Error::Runtime(format!("{}: {msg}", path.display()))
+}
+
+/// Reads a record: `.mat` files in the EMPS layout, anything else as CSV.
+pub fn load(path: &Path) -> Result<Record, Error> {
+    let is_mat = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("mat"));
+    let rec = if is_mat {
+        read_mat(path)?
+    } else {
+        let text = std::fs::read(path).map_err(|e| err(path, format!("cannot read: {e}")))?;
+        let text = String::from_utf8(text).map_err(|e| {
+            err(
+                path,
+                format!("not UTF-8 text (byte {})", e.utf8_error().valid_up_to()),
+            )
+        })?;
+        parse_csv(&text, path)?
+    };
+    check_sampling(&rec, path)?;
+    Ok(rec)
+}
+
+/// Parses CSV text (MODEL.md §6); `path` only names the file in errors.
+pub fn parse_csv(text: &str, path: &Path) -> Result<Record, Error> {
+    let mut lines = text
+        .lines()
+        .enumerate()
+        .map(|(i, l)| (i + 1, l.trim()))
+        .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'));
+    let Some((hline, header)) = lines.next() else {
+        return Err(err(
+            path,
+            "empty file: no header line (MODEL.md §6 needs columns t, u, x)",
+        ));
+    };
+    let names: Vec<&str> = header.split(',').map(str::trim).collect();
+    let col = |name: &str| names.iter().position(|n| *n == name);
+    let mut idx = [0usize; 3];
+    for (slot, name) in idx.iter_mut().zip(["t", "u", "x"]) {
+        *slot = col(name).ok_or_else(|| {
+            err(
+                path,
+                format!(
+                    "line {hline}: header lacks column `{name}` (MODEL.md §6 needs t, u, x; found: {})",
+                    names.join(", ")
+                ),
+            )
+        })?;
+    }
+    let vcol = col("v");
+    let mut rec = Record {
+        t: Vec::new(),
+        u: Vec::new(),
+        x: Vec::new(),
+        v: vcol.map(|_| Vec::new()),
+        source: path.display().to_string(),
+    };
+    for (ln, line) in lines {
+        let fields: Vec<&str> = line.split(',').map(str::trim).collect();
+        let get = |name: &str, i: usize| -> Result<f64, Error> {
+            let s = fields.get(i).ok_or_else(|| {
+                err(
+                    path,
+                    format!(
+                        "line {ln}: column `{name}` missing ({} fields, header has {})",
+                        fields.len(),
+                        names.len()
+                    ),
+                )
+            })?;
+            let x: f64 = s.parse().map_err(|_| {
+                err(
+                    path,
+                    format!("line {ln}: column `{name}`: `{s}` is not a number"),
+                )
+            })?;
+            if x.is_finite() {
+                Ok(x)
+            } else {
+                Err(err(
+                    path,
+                    format!("line {ln}: column `{name}`: value `{s}` is not finite"),
+                ))
+            }
+        };
+        let t = get("t", idx[0])?;
+        if let Some(&prev) = rec.t.last() {
+            if t <= prev {
+                return Err(err(
+                    path,
+                    format!("line {ln}: column `t`: {t} does not increase (previous {prev})"),
+                ));
+            }
+        }
+        rec.t.push(t);
+        rec.u.push(get("u", idx[1])?);
+        rec.x.push(get("x", idx[2])?);
+        if let (Some(vi), Some(v)) = (vcol, rec.v.as_mut()) {
+            v.push(get("v", vi)?);
+        }
+    }
+    if rec.len() < MIN_SAMPLES {
+        return Err(err(
+            path,
+            format!(
+                "too few samples: {} (need at least {MIN_SAMPLES})",
+                rec.len()
+            ),
+        ));
+    }
+    Ok(rec)
+}
+
+/// Reads the EMPS layout of a MATLAB v5 file: `t`, `qm`, `vir`, `gtau`.
+pub fn read_mat(path: &Path) -> Result<Record, Error> {
+    let file = std::fs::File::open(path).map_err(|e| err(path, format!("cannot read: {e}")))?;
+    let mat = matfile::MatFile::parse(std::io::BufReader::new(file)).map_err(|e| {
+        err(
+            path,
+            format!(
+                "not a readable MATLAB v5 file: {}",
+                crate::one_line(&format!("{e:?}"))
+            ),
+        )
+    })?;
+    let var = |name: &str| -> Result<Vec<f64>, Error> {
+        let a = mat.find_by_name(name).ok_or_else(|| {
+            err(
+                path,
+                format!("variable `{name}` missing (EMPS layout: t, qm, vir, gtau)"),
+            )
+        })?;
+        match a.data() {
+            matfile::NumericData::Double { real, imag: None } => Ok(real.clone()),
+            matfile::NumericData::Single { real, imag: None } => {
+                Ok(real.iter().map(|&x| f64::from(x)).collect())
+            }
+            _ => Err(err(
+                path,
+                format!("variable `{name}` is not a real floating-point array"),
+            )),
+        }
+    };
+    let t = var("t")?;
+    let qm = var("qm")?;
+    let vir = var("vir")?;
+    let gtau = var("gtau")?;
+    let [g] = gtau.as_slice() else {
+        return Err(err(
+            path,
+            format!(
+                "variable `gtau` must be a scalar, has {} elements",
+                gtau.len()
+            ),
+        ));
+    };
+    for (name, v) in [("qm", &qm), ("vir", &vir)] {
+        if v.len() != t.len() {
+            return Err(err(
+                path,
+                format!(
+                    "variable `{name}` has {} elements, `t` has {}",
+                    v.len(),
+                    t.len()
+                ),
+            ));
+        }
+    }
+    for (name, v) in [("t", &t), ("qm", &qm), ("vir", &vir), ("gtau", &gtau)] {
+        if let Some(i) = v.iter().position(|x| !x.is_finite()) {
+            return Err(err(
+                path,
+                format!("variable `{name}`, element {}: value is not finite", i + 1),
+            ));
+        }
+    }
+    if let Some(i) = t.windows(2).position(|w| w[1] <= w[0]) {
+        return Err(err(
+            path,
+            format!("variable `t`, element {}: does not increase", i + 2),
+        ));
+    }
+    if t.len() < MIN_SAMPLES {
+        return Err(err(
+            path,
+            format!("too few samples: {} (need at least {MIN_SAMPLES})", t.len()),
+        ));
+    }
+    Ok(Record {
+        u: vir.iter().map(|v| g * v).collect(),
+        t,
+        x: qm,
+        v: None,
+        source: path.display().to_string(),
+    })
+}
+
+/// The differentiator assumes (near-)uniform sampling: every interval
+/// within ±50 % of the median.
+fn check_sampling(rec: &Record, path: &Path) -> Result<(), Error> {
+    let dt = rec.dt();
+    if let Some(i) = rec
+        .t
+        .windows(2)
+        .position(|w| ((w[1] - w[0]) - dt).abs() > 0.5 * dt)
+    {
+        return Err(err(
+            path,
+            format!(
+                "sample {}: interval {} s is not within 50 % of the median {} s (uniform sampling needed)",
+                i + 2,
+                rec.t[i + 1] - rec.t[i],
+                dt
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// Writes a record as CSV (MODEL.md §6) with full-precision numbers,
+/// preceded by `#` comment lines.
+pub fn write_csv(path: &Path, rec: &Record, comments: &[String]) -> Result<(), Error> {
+    use std::fmt::Write as _;
+    let mut s = String::new();
+    for c in comments {
+        let _ = writeln!(s, "# {c}");
+    }
+    s.push_str("t,u,x\n");
+    for i in 0..rec.len() {
+        let _ = writeln!(s, "{:?},{:?},{:?}", rec.t[i], rec.u[i], rec.x[i]);
+    }
+    std::fs::write(path, s).map_err(|e| err(path, format!("cannot write: {e}")))
+}

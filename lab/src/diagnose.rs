@@ -1,0 +1,1211 @@
+//! The discrepancy workflow (`breakaway-lab diagnose`): where the model and
+//! the measurement disagree, which effect of MODEL.md §5 is missing, and how
+//! much adding it shrinks the gap.
+//!
+//! 1. **Residual.** The force residual along the measured motion of
+//!    [`crate::fit`] (local by construction, MODEL.md §8), for the current
+//!    model refitted on the training blocks.
+//! 2. **Localise.** Every sample gets a regime (rest, presliding after a
+//!    turning point, break-away after a rest, low speed, sliding by speed
+//!    band; each direction); the report lists where the residual
+//!    concentrates (regimes and time windows) and how much of it each signal
+//!    explains (binned means against velocity, direction, position — the
+//!    best line of a spatial periodogram —, time, time since the last turning
+//!    point, rest time before motion).
+//! 3. **Name.** Each catalogue effect the model lacks is added in turn,
+//!    refitted (Levenberg–Marquardt from a few starting points) and scored on
+//!    the held-out blocks by `BIC = n·ln(mse) + p·ln(n)`. The best candidate
+//!    is accepted only if its BIC is lower **and** it lowers the held-out RMS
+//!    by at least [`ACCEPT_GAIN`] (see there for why both).
+//! 4. Repeat until no candidate is accepted; 5. report.
+
+use crate::data::Record;
+use crate::fit::{self, FitOptions, Param, Prepared};
+use crate::progress::Progress;
+use crate::reference::{
+    Asymmetry, Drift, DwellStiction, Effects, Friction, FrictionalLag, Model, Offset,
+    PositionRipple,
+};
+use std::f64::consts::PI;
+
+/// Least relative reduction of the held-out RMS for a candidate to be
+/// accepted.
+///
+/// The held-out residual samples are not independent: the differentiator
+/// window (11 samples), the control loop and the smoothing of the force
+/// kernel correlate them over tens of samples, so the `ln(n)` penalty of BIC
+/// per parameter is too weak by about that factor and BIC alone would accept
+/// parameters that fit the correlated floor (differentiation and
+/// discretisation errors at break-away). Requiring a 5 % lower held-out RMS
+/// on top is a margin above what an effect-free record gives: on the
+/// effect-free records of the test matrix no candidate reached 1.5 % (while
+/// BIC alone accepted some), and the hidden effects give 11–95 % (see
+/// DIAGNOSE.md).
+pub const ACCEPT_GAIN: f64 = 0.05;
+
+/// Least relative reduction per added parameter (a candidate with `p` new
+/// parameters needs `max(ACCEPT_GAIN, p·ACCEPT_GAIN_PER_PARAM)`;
+/// `dwell_stiction` counts its grid-chosen `v_rest`). A periodic term with
+/// free wavelength and phase finds some line in any structured residual:
+/// in the test matrix, spurious `position_ripple` lines reached 12 % after
+/// the real effect had been added.
+pub const ACCEPT_GAIN_PER_PARAM: f64 = 0.045;
+
+/// The gain a candidate must reach.
+pub fn required_gain(effect: &str) -> f64 {
+    let p = match effect {
+        "position_ripple" | "dwell_stiction" | "stribeck" => 3.0,
+        _ => 1.0,
+    };
+    ACCEPT_GAIN.max(p * ACCEPT_GAIN_PER_PARAM)
+}
+
+/// Most effects added.
+pub const MAX_ROUNDS: usize = 4;
+
+/// Options of the workflow.
+#[derive(Clone, Debug)]
+pub struct Options {
+    /// Savitzky–Golay half-width.
+    pub half_width: usize,
+    /// Candidate effects considered (catalogue names); all when empty.
+    pub candidates: Vec<String>,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            half_width: fit::DEFAULT_HALF_WIDTH,
+            candidates: Vec::new(),
+        }
+    }
+}
+
+/// A candidate tried in one round.
+#[derive(Clone, Debug)]
+pub struct Candidate {
+    /// Catalogue name.
+    pub effect: String,
+    /// Held-out RMS after adding and refitting [N].
+    pub rms: f64,
+    /// BIC change on the held-out blocks (negative is better).
+    pub score: f64,
+    /// The fitted model.
+    pub model: Model,
+}
+
+/// One accepted effect.
+#[derive(Clone, Debug)]
+pub struct Step {
+    /// Catalogue name.
+    pub effect: String,
+    /// Held-out RMS before [N].
+    pub rms_before: f64,
+    /// Held-out RMS after [N].
+    pub rms_after: f64,
+    /// BIC change (negative).
+    pub score: f64,
+    /// The model after the step.
+    pub model: Model,
+    /// The signal that localises this effect, and the fraction of the
+    /// residual (before the step) it explains.
+    pub signal: (String, f64),
+    /// Every candidate of the round, best first.
+    pub candidates: Vec<Candidate>,
+    /// Residual before the step (all samples).
+    pub residual_before: Vec<f64>,
+}
+
+/// A stretch where the residual concentrates.
+#[derive(Clone, Debug)]
+pub struct Region {
+    /// Regime label.
+    pub regime: String,
+    /// Start [s].
+    pub t_start: f64,
+    /// End [s].
+    pub t_end: f64,
+    /// RMS of the residual there [N].
+    pub rms: f64,
+}
+
+/// Per-regime statistics.
+#[derive(Clone, Debug)]
+pub struct RegimeStat {
+    /// Regime label.
+    pub regime: String,
+    /// Samples.
+    pub n: usize,
+    /// RMS of the residual [N].
+    pub rms: f64,
+}
+
+/// The result of [`diagnose`].
+#[derive(Clone, Debug)]
+pub struct Report {
+    /// Samples, interval, resolution.
+    pub n: usize,
+    /// Median sampling interval [s].
+    pub dt: f64,
+    /// Position resolution [m].
+    pub resolution: f64,
+    /// Start model as given (`None` without `--model`) and its held-out RMS.
+    pub given: Option<f64>,
+    /// Model before the first step (refitted start).
+    pub start: Model,
+    /// Held-out RMS of `start`.
+    pub rms_before: f64,
+    /// Held-out RMS of the final model.
+    pub rms_after: f64,
+    /// Accepted steps.
+    pub steps: Vec<Step>,
+    /// The last round's candidates (none accepted).
+    pub last_round: Vec<Candidate>,
+    /// Effects dropped by the backward pass: (name, held-out RMS without
+    /// it, with it) [N].
+    pub pruned: Vec<(String, f64, f64)>,
+    /// Where the residual concentrates before the first step.
+    pub regions: Vec<Region>,
+    /// RMS per regime before the first step.
+    pub regimes: Vec<RegimeStat>,
+    /// Fraction of the residual each signal explains (before the first step).
+    pub signals: Vec<(String, f64)>,
+    /// The final model.
+    pub model: Model,
+    /// Residual of the final model.
+    pub residual_after: Vec<f64>,
+    /// Residual of the start model.
+    pub residual_before: Vec<f64>,
+    /// Times [s].
+    pub t: Vec<f64>,
+    /// Signals per sample, by name (for plots).
+    pub signal_series: Vec<(String, Vec<f64>)>,
+}
+
+/// What the residual is, for reports.
+pub const METRIC: &str = "held-out weighted RMS [N] of the force residual along the measured motion, r = W*(u - F(t, x, v_hat)) - m*a_hat (Savitzky-Golay v_hat, a_hat; W the matching force kernel); samples weighted by speed/direction class, time blocks 2, 5, 8 of 10 held out";
+
+fn held_rms(p: &Prepared, m: &Model) -> (f64, Vec<f64>) {
+    let r = p.residual(m);
+    (p.rms(&r, Some(true)), r)
+}
+
+fn bic(p: &Prepared, rms: f64, n_params: usize) -> f64 {
+    let n = p.count(true).max(1) as f64;
+    n * (rms * rms).max(1e-300).ln() + n_params as f64 * n.ln()
+}
+
+fn quick() -> FitOptions {
+    FitOptions {
+        max_iter: 12,
+        rel_tol: 1e-4,
+    }
+}
+
+/// The best of several starting models after a short fit, then fitted fully.
+fn fit_multistart(p: &Prepared, starts: &[Model], progress: &mut dyn FnMut(&str)) -> Model {
+    let mut best: Option<(f64, Model)> = None;
+    for (i, s) in starts.iter().enumerate() {
+        progress(&format!("start {}/{}", i + 1, starts.len()));
+        let params = fit::params_of(s);
+        let opts = if starts.len() > 1 {
+            quick()
+        } else {
+            FitOptions::default()
+        };
+        let r = fit::fit(p, s, &params, &opts, &mut |_| {});
+        if best.as_ref().is_none_or(|(c, _)| r.cost < *c) {
+            best = Some((r.cost, r.model));
+        }
+    }
+    let Some((_, m)) = best else {
+        return starts.first().cloned().unwrap_or_else(base_placeholder);
+    };
+    if starts.len() > 1 {
+        let params = fit::params_of(&m);
+        fit::fit(p, &m, &params, &FitOptions::default(), &mut |_| {}).model
+    } else {
+        m
+    }
+}
+
+fn base_placeholder() -> Model {
+    Model {
+        mass: 1.0,
+        fc: 1.0,
+        fs: 1.5,
+        v_stribeck: 1e-3,
+        delta: 1.0,
+        sigma: 0.0,
+        z_max: 1e-5,
+        epsilon: 0.0,
+        effects: Effects::default(),
+    }
+}
+
+fn quantile(v: &mut [f64], q: f64) -> f64 {
+    if v.is_empty() {
+        return f64::NAN;
+    }
+    v.sort_by(f64::total_cmp);
+    v[((v.len() - 1) as f64 * q).round() as usize]
+}
+
+/// Linear least squares `min |A·c − b|` with columns `cols`.
+#[allow(clippy::needless_range_loop)] // dense Gauss–Jordan on a small matrix
+fn lstsq(cols: &[Vec<f64>], b: &[f64]) -> Option<Vec<f64>> {
+    let n = cols.len();
+    let mut a = vec![vec![0.0; n + 1]; n];
+    for i in 0..n {
+        for j in 0..n {
+            a[i][j] = cols[i].iter().zip(&cols[j]).map(|(x, y)| x * y).sum();
+        }
+        a[i][n] = cols[i].iter().zip(b).map(|(x, y)| x * y).sum();
+    }
+    for c in 0..n {
+        let piv = (c..n).max_by(|&i, &j| a[i][c].abs().total_cmp(&a[j][c].abs()))?;
+        if a[piv][c].abs() < 1e-300 {
+            return None;
+        }
+        a.swap(c, piv);
+        for r in 0..n {
+            if r != c {
+                let f = a[r][c] / a[c][c];
+                for k in c..=n {
+                    a[r][k] -= f * a[c][k];
+                }
+            }
+        }
+    }
+    let x: Vec<f64> = (0..n).map(|i| a[i][n] / a[i][i]).collect();
+    x.iter().all(|v| v.is_finite()).then_some(x)
+}
+
+/// The base model of MODEL.md §2–§3 (Coulomb + Stribeck + presliding,
+/// σ = 0) with its parameters identified from the data: mass and Fc by
+/// linear least squares on the faster half of the moving samples, then a
+/// grid over V and z_max, then Levenberg–Marquardt.
+pub fn initial_base(p: &Prepared, progress: &mut dyn FnMut(&str)) -> Model {
+    let mut speeds: Vec<f64> = p
+        .valid()
+        .map(|i| p.v[i].abs())
+        .filter(|s| *s > p.v_rest)
+        .collect();
+    let v_med = quantile(&mut speeds.clone(), 0.5);
+    let v_lo = quantile(&mut speeds, 0.2);
+    let fast: Vec<usize> = p
+        .valid()
+        .filter(|&i| !p.held_out[i] && p.v[i].abs() >= v_med)
+        .collect();
+    let sgn: Vec<f64> = p.v.iter().map(|v| v.signum()).collect();
+    let col_a: Vec<f64> = fast.iter().map(|&i| p.a[i]).collect();
+    let col_s: Vec<f64> = fast.iter().map(|&i| p.filter_at(&sgn, i)).collect();
+    let b: Vec<f64> = fast.iter().map(|&i| p.filter_at(&p.u_mid, i)).collect();
+    let (mut mass, mut fc) = match lstsq(&[col_a, col_s], &b) {
+        Some(c) => (c[0], c[1]),
+        None => (f64::NAN, f64::NAN),
+    };
+    if !(fc.is_finite() && fc > 0.0) {
+        let mut u: Vec<f64> = fast.iter().map(|&i| p.u_mid[i].abs()).collect();
+        fc = quantile(&mut u, 0.5).max(1e-6);
+    }
+    if !(mass.is_finite() && mass > 0.0) {
+        mass = 1e-3 * fc / (v_med.max(1e-12) / 1.0);
+    }
+    let v_lo = if v_lo.is_finite() && v_lo > 0.0 {
+        v_lo
+    } else {
+        1e-3
+    };
+    let mut best: Option<(f64, Model)> = None;
+    let mut k = 0;
+    for vf in [0.3, 1.0, 3.0] {
+        for zf in [10.0, 40.0, 160.0, 640.0] {
+            k += 1;
+            progress(&format!("base model: grid {k}/12"));
+            let m = Model {
+                mass,
+                fc,
+                fs: 1.4 * fc,
+                v_stribeck: vf * v_lo,
+                delta: 1.0,
+                sigma: 0.0,
+                z_max: zf * p.resolution,
+                epsilon: 0.0,
+                effects: Effects::default(),
+            };
+            let c = fit::train_cost(p, &m);
+            if c.is_finite() && best.as_ref().is_none_or(|(b, _)| c < *b) {
+                best = Some((c, m));
+            }
+        }
+    }
+    let start = best.map_or_else(base_placeholder, |(_, m)| m);
+    progress("base model: fitting");
+    let params = fit::params_of(&start);
+    fit::fit(p, &start, &params, &FitOptions::default(), &mut |_| {}).model
+}
+
+/// Dry friction `H` along the motion (for regressions).
+fn dry_force(p: &Prepared, m: &Model) -> Vec<f64> {
+    let mut fr = Friction::new(m, p.t[0], p.x[0], p.v[0]);
+    (0..p.len())
+        .map(|i| {
+            fr.update(m, p.t[i], p.x[i], p.v[i]);
+            fr.dry()
+        })
+        .collect()
+}
+
+/// One-parameter regression of `r` on the filtered series `s` (training
+/// samples).
+fn regress(p: &Prepared, r: &[f64], s: &[f64]) -> f64 {
+    let (mut sx, mut xx) = (0.0, 0.0);
+    for i in p.valid().filter(|&i| !p.held_out[i]) {
+        let f = p.filter_at(s, i);
+        sx += p.weight[i] * f * r[i];
+        xx += p.weight[i] * f * f;
+    }
+    if xx > 0.0 {
+        sx / xx
+    } else {
+        0.0
+    }
+}
+
+/// The best wavelength of a spatial periodogram of `r` over moving samples:
+/// `(λ, A·cos φ, A·sin φ, explained fraction)`.
+pub fn ripple_scan(p: &Prepared, r: &[f64], filtered: bool) -> (f64, f64, f64, f64) {
+    let idx: Vec<usize> = p
+        .valid()
+        .filter(|&i| !p.held_out[i] && p.v[i].abs() > p.v_rest)
+        .collect();
+    if idx.len() < 20 {
+        return (1.0, 0.0, 0.0, 0.0);
+    }
+    let (lo, hi) = idx
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &i| {
+            (a.min(p.x[i]), b.max(p.x[i]))
+        });
+    let span = (hi - lo).max(1e-12);
+    let total: f64 = idx.iter().map(|&i| p.weight[i] * r[i] * r[i]).sum();
+    let lam_min = (50.0 * p.resolution).max(span / 2000.0);
+    let lam_max = span / 3.0;
+    let mut best = (1.0, 0.0, 0.0, 0.0);
+    if lam_max <= lam_min || total <= 0.0 {
+        return best;
+    }
+    let steps = 300;
+    for s in 0..=steps {
+        let lam = lam_min * (lam_max / lam_min).powf(s as f64 / steps as f64);
+        let k = 2.0 * PI / lam;
+        let (mut ss, mut sc, mut cc, mut rs, mut rc) = (0.0, 0.0, 0.0, 0.0, 0.0);
+        let sin: Vec<f64>;
+        let cos: Vec<f64>;
+        if filtered {
+            sin = p.x.iter().map(|x| (k * x).sin()).collect();
+            cos = p.x.iter().map(|x| (k * x).cos()).collect();
+        } else {
+            sin = Vec::new();
+            cos = Vec::new();
+        }
+        for &i in &idx {
+            let (a, b) = if filtered {
+                (p.filter_at(&sin, i), p.filter_at(&cos, i))
+            } else {
+                ((k * p.x[i]).sin(), (k * p.x[i]).cos())
+            };
+            let w = p.weight[i];
+            ss += w * a * a;
+            sc += w * a * b;
+            cc += w * b * b;
+            rs += w * r[i] * a;
+            rc += w * r[i] * b;
+        }
+        let det = ss * cc - sc * sc;
+        if det <= 0.0 {
+            continue;
+        }
+        let c1 = (rs * cc - rc * sc) / det;
+        let c2 = (rc * ss - rs * sc) / det;
+        let explained = (c1 * rs + c2 * rc) / total;
+        if explained > best.3 {
+            best = (lam, c1, c2, explained);
+        }
+    }
+    best
+}
+
+/// Starting models for adding `effect` to `m` (refitted from each).
+fn candidate_starts(p: &Prepared, m: &Model, effect: &str, r: &[f64]) -> Vec<Model> {
+    let mut out = Vec::new();
+    let t_span = (p.t[p.len() - 1] - p.t[0]).max(1e-9);
+    let with = |f: &dyn Fn(&mut Model)| {
+        let mut c = m.clone();
+        f(&mut c);
+        c
+    };
+    match effect {
+        "viscous" => {
+            let s = regress(p, r, &p.v)
+                .max(1e-3 * m.fc / p.v.iter().fold(1e-12f64, |a, v| a.max(v.abs())));
+            out.push(with(&|c| c.sigma = s));
+        }
+        "offset" => {
+            let one = vec![1.0; p.len()];
+            let f0 = regress(p, r, &one);
+            out.push(with(&|c| c.effects.offset = Some(Offset { f0 })));
+        }
+        "asymmetry" => {
+            let h = dry_force(p, m);
+            let a = (regress(p, r, &h)).clamp(-0.5, 0.5);
+            for a0 in [a, 0.1, -0.1] {
+                out.push(with(&|c| c.effects.asymmetry = Some(Asymmetry { a: a0 })));
+            }
+        }
+        "position_ripple" => {
+            let (lam, c1, c2, _) = ripple_scan(p, r, true);
+            out.push(with(&|c| {
+                c.effects.position_ripple = Some(PositionRipple {
+                    amplitude: c1.hypot(c2),
+                    wavelength: lam,
+                    phase: c2.atan2(c1),
+                })
+            }));
+        }
+        "dwell_stiction" => {
+            // v_rest is not fitted by least squares (t_d jumps with it):
+            // rests of 100, 50 and 25 samples without a count change (the
+            // 1/T velocity of crate::fit) are tried as starts.
+            let count_rate = p.resolution / p.dt;
+            for v_rest in [0.01 * count_rate, 0.02 * count_rate, 0.04 * count_rate] {
+                for gamma in [0.1, 0.5] {
+                    out.push(with(&|c| {
+                        c.effects.dwell_stiction = Some(DwellStiction {
+                            delta_fs: 0.2 * m.fc,
+                            gamma,
+                            v_rest,
+                        })
+                    }));
+                }
+            }
+        }
+        "frictional_lag" => {
+            // Lag and the Stribeck shape trade off (a base model fitted
+            // without lag bends V, δ to mimic it), so the shape restarts too.
+            // It may even have dropped the Stribeck dip (V → 0): restart
+            // it from the data's low speeds as the base model's grid does.
+            let mut speeds: Vec<f64> = p
+                .valid()
+                .map(|i| p.v[i].abs())
+                .filter(|s| *s > p.v_rest)
+                .collect();
+            let v_lo = quantile(&mut speeds, 0.2);
+            let v_lo = if v_lo.is_finite() && v_lo > 0.0 {
+                v_lo
+            } else {
+                m.v_stribeck
+            };
+            for tau_l in [0.01, 0.03, 0.1] {
+                out.push(with(&|c| {
+                    c.effects.frictional_lag = Some(FrictionalLag { tau_l })
+                }));
+                out.push(with(&|c| {
+                    c.effects.frictional_lag = Some(FrictionalLag { tau_l });
+                    c.delta = 2.0;
+                    c.v_stribeck = v_lo;
+                    c.fs = c.fs.clamp(1.1 * c.fc, 2.0 * c.fc);
+                }));
+            }
+        }
+        "drift" => {
+            let h = dry_force(p, m);
+            let ht: Vec<f64> = h.iter().zip(&p.t).map(|(h, t)| h * (t - p.t[0])).collect();
+            let beta = regress(p, r, &ht).clamp(-1.0 / t_span, 1.0 / t_span);
+            out.push(with(&|c| c.effects.drift = Some(Drift { beta })));
+        }
+        "stribeck" => {
+            for vf in [0.3, 1.0, 3.0] {
+                out.push(with(&|c| {
+                    c.fs = 1.3 * c.fc;
+                    c.v_stribeck = m.v_stribeck * vf;
+                }));
+            }
+        }
+        "presliding" => {
+            for zf in [10.0, 40.0, 160.0, 640.0] {
+                out.push(with(&|c| c.z_max = zf * p.resolution));
+            }
+        }
+        _ => {}
+    }
+    // A base model that used δ at the edge of its range to mimic the
+    // missing effect is also restarted from δ = 2.
+    if m.delta > 3.0 || m.delta < 0.5 {
+        let again: Vec<Model> = out
+            .iter()
+            .map(|c| {
+                let mut c = c.clone();
+                c.delta = 2.0;
+                c
+            })
+            .collect();
+        out.extend(again);
+    }
+    out.retain(|c| c.validate().is_ok());
+    out
+}
+
+/// `m` without the catalogue effect `name`.
+fn remove_effect(m: &Model, name: &str, p: &Prepared) -> Model {
+    let mut c = m.clone();
+    let e = &mut c.effects;
+    match name {
+        "viscous" => c.sigma = 0.0,
+        "offset" => e.offset = None,
+        "asymmetry" => e.asymmetry = None,
+        "position_ripple" => e.position_ripple = None,
+        "dwell_stiction" => e.dwell_stiction = None,
+        "frictional_lag" => e.frictional_lag = None,
+        "drift" => e.drift = None,
+        "stribeck" => c.fs = c.fc,
+        "presliding" => c.z_max = 0.0,
+        _ => {}
+    }
+    let _ = p;
+    c
+}
+
+/// The signal that localises each effect (for the report and the plot).
+pub fn signal_of(effect: &str) -> &'static str {
+    match effect {
+        "viscous" | "offset" | "asymmetry" | "stribeck" | "frictional_lag" => "velocity",
+        "position_ripple" => "position",
+        "dwell_stiction" => "rest time before motion",
+        "drift" => "time",
+        "presliding" => "time since turning point",
+        _ => "time",
+    }
+}
+
+/// Per-sample series of the localising signals: velocity, direction,
+/// position, time, time since the last turning point, rest time before the
+/// current motion (NaN where not defined).
+pub fn signal_series(p: &Prepared, m: &Model) -> Vec<(String, Vec<f64>)> {
+    let n = p.len();
+    let mut dir = vec![0.0; n];
+    let mut since_tp = vec![f64::NAN; n];
+    let mut rest_before = vec![f64::NAN; n];
+    let mut fr = Friction::new(m, p.t[0], p.x[0], p.v[0]);
+    let mut last_d = 0i8;
+    let mut t_tp = p.t[0];
+    let mut rest_start: Option<f64> = Some(p.t[0]);
+    let mut last_rest = 0.0;
+    let mut t_motion = p.t[0];
+    let rest_speed = p.v_rest;
+    for i in 0..n {
+        fr.update(m, p.t[i], p.x[i], p.v[i]);
+        let d = fr.direction();
+        if d != last_d {
+            t_tp = p.t[i];
+            last_d = d;
+        }
+        dir[i] = f64::from(d);
+        since_tp[i] = p.t[i] - t_tp;
+        if p.v[i].abs() <= rest_speed {
+            if rest_start.is_none() {
+                rest_start = Some(p.t[i]);
+            }
+        } else if let Some(s) = rest_start.take() {
+            last_rest = p.t[i] - s;
+            t_motion = p.t[i];
+        }
+        if rest_start.is_none() && p.t[i] - t_motion < 0.15 {
+            rest_before[i] = last_rest;
+        }
+    }
+    vec![
+        ("velocity".into(), p.v.clone()),
+        ("direction".into(), dir),
+        ("position".into(), p.x.clone()),
+        ("time".into(), p.t.clone()),
+        ("time since turning point".into(), since_tp),
+        ("rest time before motion".into(), rest_before),
+    ]
+}
+
+/// Fraction of the (weighted) residual power explained by binned means of
+/// `r·d` (direction-signed where the effect scales friction) against `s`.
+fn explained(p: &Prepared, r: &[f64], s: &[f64], dir: &[f64], signed: bool, bins: usize) -> f64 {
+    let idx: Vec<usize> = p.valid().filter(|&i| s[i].is_finite()).collect();
+    let total: f64 = p.valid().map(|i| p.weight[i] * r[i] * r[i]).sum();
+    if idx.len() < 2 * bins || total <= 0.0 {
+        return 0.0;
+    }
+    let mut sorted: Vec<f64> = idx.iter().map(|&i| s[i]).collect();
+    sorted.sort_by(f64::total_cmp);
+    let edges: Vec<f64> = (1..bins)
+        .map(|b| sorted[b * (sorted.len() - 1) / bins])
+        .collect();
+    let mut sum = vec![0.0; bins];
+    let mut wsum = vec![0.0; bins];
+    for &i in &idx {
+        let b = edges.partition_point(|e| *e < s[i]);
+        let y = if signed && dir[i] != 0.0 {
+            r[i] * dir[i]
+        } else {
+            r[i]
+        };
+        sum[b] += p.weight[i] * y;
+        wsum[b] += p.weight[i];
+    }
+    let ex: f64 = sum
+        .iter()
+        .zip(&wsum)
+        .filter(|(_, w)| **w > 0.0)
+        .map(|(s, w)| s * s / w)
+        .sum();
+    ex / total
+}
+
+/// How much of `r` each signal explains.
+pub fn localise_signals(
+    p: &Prepared,
+    r: &[f64],
+    series: &[(String, Vec<f64>)],
+) -> Vec<(String, f64)> {
+    let dir = &series[1].1;
+    let mut out = Vec::new();
+    for (name, s) in series {
+        let f = match name.as_str() {
+            "velocity" => explained(p, r, s, dir, false, 24),
+            "direction" => explained(p, r, s, dir, false, 2),
+            "position" => ripple_scan(p, r, false).3,
+            "time" => explained(p, r, s, dir, true, 12),
+            "time since turning point" => {
+                let l: Vec<f64> = s.iter().map(|v| (v + 1e-4).ln()).collect();
+                explained(p, r, &l, dir, true, 12)
+            }
+            _ => explained(p, r, s, dir, true, 6),
+        };
+        out.push((name.clone(), f));
+    }
+    out
+}
+
+/// Regime label of every sample under model `m`.
+pub fn regimes(p: &Prepared, m: &Model) -> Vec<String> {
+    let n = p.len();
+    let mut fr = Friction::new(m, p.t[0], p.x[0], p.v[0]);
+    let mut out = Vec::with_capacity(n);
+    let mut rest_len = 0.0;
+    let mut rest_start: Option<f64> = Some(p.t[0]);
+    let mut breaking = false;
+    let mut sliding: Vec<f64> = p
+        .valid()
+        .map(|i| p.v[i].abs())
+        .filter(|s| *s >= 3.0 * m.v_stribeck)
+        .collect();
+    sliding.sort_by(f64::total_cmp);
+    let band = |s: f64| -> String {
+        if sliding.len() < 3 {
+            return "sliding".into();
+        }
+        let q1 = sliding[sliding.len() / 3];
+        let q2 = sliding[2 * sliding.len() / 3];
+        let (a, b) = if s < q1 {
+            (sliding[0], q1)
+        } else if s < q2 {
+            (q1, q2)
+        } else {
+            (q2, sliding[sliding.len() - 1])
+        };
+        format!(
+            "sliding {}-{} m/s",
+            crate::format::short(a, 2),
+            crate::format::short(b, 2)
+        )
+    };
+    for i in 0..n {
+        fr.update(m, p.t[i], p.x[i], p.v[i]);
+        let s = p.v[i].abs();
+        let d = if fr.direction() >= 0 { "+" } else { "-" };
+        if s <= p.v_rest {
+            if rest_start.is_none() {
+                rest_start = Some(p.t[i]);
+            }
+            out.push("rest".to_string());
+            continue;
+        }
+        if let Some(st) = rest_start.take() {
+            rest_len = p.t[i] - st;
+            breaking = rest_len >= 0.02;
+        }
+        if breaking && s >= 2.0 * m.v_stribeck {
+            breaking = false;
+        }
+        let w = fr.presliding().travel(m.z_max, p.x[i]);
+        let label = if w < 1.0 {
+            "presliding".to_string()
+        } else if breaking {
+            "break-away".to_string()
+        } else if s < 3.0 * m.v_stribeck {
+            "low speed".to_string()
+        } else {
+            band(s)
+        };
+        out.push(format!("{label} {d}"));
+    }
+    let _ = rest_len;
+    out
+}
+
+/// RMS of `r` per regime label, largest first.
+pub fn regime_stats(p: &Prepared, r: &[f64], labels: &[String]) -> Vec<RegimeStat> {
+    let mut names: Vec<String> = Vec::new();
+    let mut acc: Vec<(usize, f64)> = Vec::new();
+    for i in p.valid() {
+        let k = match names.iter().position(|n| *n == labels[i]) {
+            Some(k) => k,
+            None => {
+                names.push(labels[i].clone());
+                acc.push((0, 0.0));
+                names.len() - 1
+            }
+        };
+        acc[k].0 += 1;
+        acc[k].1 += r[i] * r[i];
+    }
+    let mut out: Vec<RegimeStat> = names
+        .into_iter()
+        .zip(acc)
+        .map(|(regime, (n, s))| RegimeStat {
+            regime,
+            n,
+            rms: (s / n.max(1) as f64).sqrt(),
+        })
+        .collect();
+    out.sort_by(|a, b| b.rms.total_cmp(&a.rms));
+    out
+}
+
+/// Contiguous stretches of one regime, the largest residual first.
+fn regions_of(p: &Prepared, r: &[f64], labels: &[String], count: usize) -> Vec<Region> {
+    let min_len = ((0.01 / p.dt).ceil() as usize).max(3);
+    let mut runs = Vec::new();
+    let valid = p.valid();
+    let mut i = valid.start;
+    while i < valid.end {
+        let mut j = i;
+        let mut s = 0.0;
+        while j < valid.end && labels[j] == labels[i] {
+            s += r[j] * r[j];
+            j += 1;
+        }
+        if j - i >= min_len {
+            runs.push(Region {
+                regime: labels[i].clone(),
+                t_start: p.t[i],
+                t_end: p.t[j - 1],
+                rms: (s / (j - i) as f64).sqrt(),
+            });
+        }
+        i = j;
+    }
+    runs.sort_by(|a, b| b.rms.total_cmp(&a.rms));
+    runs.truncate(count);
+    runs
+}
+
+/// Runs the workflow on `rec` from `start` (`None`: the base model
+/// identified from the data).
+pub fn diagnose(
+    rec: &Record,
+    start: Option<&Model>,
+    opts: &Options,
+    progress: &mut Progress,
+) -> Report {
+    let mut p = Prepared::new(rec, opts.half_width);
+    let mut show = |s: &str| progress.show(s);
+    let (given, mut model) = match start {
+        Some(m) => {
+            let g = held_rms(&p, m).0;
+            show("refitting the given model");
+            let params = fit::params_of(m);
+            (
+                Some(g),
+                fit::fit(&p, m, &params, &FitOptions::default(), &mut |_| {}).model,
+            )
+        }
+        None => (None, initial_base(&p, &mut show)),
+    };
+    // Error-in-variables weights from the start model, fixed from here on.
+    let r0 = p.residual(&model);
+    p.set_error_weights(&model, &r0);
+    show("refitting with error weights");
+    let params = fit::params_of(&model);
+    model = fit::fit(&p, &model, &params, &FitOptions::default(), &mut |_| {}).model;
+    let start_model = model.clone();
+    let (mut rms, mut r) = held_rms(&p, &model);
+    let rms_before = rms;
+    let residual_before = r.clone();
+    let labels = regimes(&p, &model);
+    let regimes_before = regime_stats(&p, &r, &labels);
+    let regions = regions_of(&p, &r, &labels, 8);
+    let series = signal_series(&p, &model);
+    let signals = localise_signals(&p, &r, &series);
+    let allowed = |e: &str| opts.candidates.is_empty() || opts.candidates.iter().any(|c| c == e);
+    let mut steps = Vec::new();
+    let mut last_round = Vec::new();
+    for round in 0..MAX_ROUNDS {
+        let names: Vec<&str> = fit::CATALOGUE
+            .iter()
+            .copied()
+            .filter(|e| !fit::has_effect(&model, e) && allowed(e))
+            .collect();
+        let mut cands = Vec::new();
+        let n_cur = fit::params_of(&model).len();
+        let bic_cur = bic(&p, rms, n_cur);
+        for (ci, name) in names.iter().enumerate() {
+            let starts = candidate_starts(&p, &model, name, &r);
+            if starts.is_empty() {
+                continue;
+            }
+            let label = format!(
+                "round {}: candidate {}/{} {name}",
+                round + 1,
+                ci + 1,
+                names.len()
+            );
+            let fitted = fit_multistart(&p, &starts, &mut |s| show(&format!("{label} ({s})")));
+            if !fit::has_effect(&fitted, name) {
+                continue;
+            }
+            let (c_rms, _) = held_rms(&p, &fitted);
+            let score = bic(&p, c_rms, fit::params_of(&fitted).len()) - bic_cur;
+            cands.push(Candidate {
+                effect: (*name).to_string(),
+                rms: c_rms,
+                score,
+                model: fitted,
+            });
+        }
+        cands.sort_by(|a, b| a.score.total_cmp(&b.score));
+        let accept = cands
+            .first()
+            .is_some_and(|c| c.score < 0.0 && c.rms <= (1.0 - required_gain(&c.effect)) * rms);
+        if !accept {
+            last_round = cands;
+            break;
+        }
+        let best = cands[0].clone();
+        let sig_name = signal_of(&best.effect);
+        let sig = localise_signals(&p, &r, &signal_series(&p, &model))
+            .into_iter()
+            .find(|(n, _)| n == sig_name)
+            .unwrap_or((sig_name.to_string(), 0.0));
+        let (new_rms, new_r) = held_rms(&p, &best.model);
+        steps.push(Step {
+            effect: best.effect.clone(),
+            rms_before: rms,
+            rms_after: new_rms,
+            score: best.score,
+            model: best.model.clone(),
+            signal: sig,
+            candidates: cands,
+            residual_before: r.clone(),
+        });
+        model = best.model;
+        rms = new_rms;
+        r = new_r;
+    }
+    // Backward pass: greedy forward selection can take a look-alike first
+    // (asymmetry for offset) and keep it after the real effect joined.
+    // An added effect is dropped when the model refitted without it is
+    // held-out within its required gain of the final one.
+    let mut pruned = Vec::new();
+    if steps.len() > 1 {
+        let mut k = 0;
+        while k < steps.len() && steps.len() > 1 {
+            let name = steps[k].effect.clone();
+            show(&format!("backward check: {name}"));
+            let without = remove_effect(&model, &name, &p);
+            let params = fit::params_of(&without);
+            let refit = fit::fit(&p, &without, &params, &FitOptions::default(), &mut |_| {}).model;
+            let (w_rms, w_r) = held_rms(&p, &refit);
+            if w_rms * (1.0 - required_gain(&name)) <= rms {
+                pruned.push((name, w_rms, rms));
+                steps.remove(k);
+                model = refit;
+                rms = w_rms;
+                r = w_r;
+            } else {
+                k += 1;
+            }
+        }
+    }
+    progress.finish();
+    Report {
+        pruned,
+        n: p.len(),
+        dt: p.dt,
+        resolution: p.resolution,
+        given,
+        start: start_model,
+        rms_before,
+        rms_after: rms,
+        steps,
+        last_round,
+        regions,
+        regimes: regimes_before,
+        signals,
+        signal_series: signal_series(&p, &model),
+        model,
+        residual_after: r,
+        residual_before,
+        t: p.t.clone(),
+    }
+}
+
+/// The model as a JSON object with the MODEL.md §7 names.
+pub fn model_json(m: &Model) -> serde_json::Value {
+    let mut o = serde_json::json!({
+        "mass": m.mass, "fc": m.fc, "fs": m.fs, "v_stribeck": m.v_stribeck,
+        "delta": m.delta, "sigma": m.sigma, "z_max": m.z_max, "epsilon": m.epsilon,
+    });
+    let e = effect_params_all(m);
+    if !e.is_empty() {
+        o["effects"] = serde_json::Value::Object(e);
+    }
+    o
+}
+
+fn effect_params_all(m: &Model) -> serde_json::Map<String, serde_json::Value> {
+    let mut map = serde_json::Map::new();
+    for name in [
+        "offset",
+        "asymmetry",
+        "position_ripple",
+        "dwell_stiction",
+        "frictional_lag",
+        "drift",
+    ] {
+        if fit::has_effect(m, name) {
+            map.insert(name.into(), effect_params(m, name));
+        }
+    }
+    map
+}
+
+/// The fitted parameters of one effect (MODEL.md §7 names).
+pub fn effect_params(m: &Model, name: &str) -> serde_json::Value {
+    let e = &m.effects;
+    use serde_json::json;
+    match name {
+        "viscous" => json!({"sigma": m.sigma}),
+        "stribeck" => json!({"fs": m.fs, "v_stribeck": m.v_stribeck, "delta": m.delta}),
+        "presliding" => json!({"z_max": m.z_max}),
+        "offset" => json!({"f0": e.offset.map(|o| o.f0)}),
+        "asymmetry" => json!({"a": e.asymmetry.map(|a| a.a)}),
+        "position_ripple" => e.position_ripple.map_or(
+            json!({}),
+            |r| json!({"amplitude": r.amplitude, "wavelength": r.wavelength, "phase": r.phase}),
+        ),
+        "dwell_stiction" => e.dwell_stiction.map_or(
+            json!({}),
+            |d| json!({"delta_fs": d.delta_fs, "gamma": d.gamma, "v_rest": d.v_rest}),
+        ),
+        "frictional_lag" => json!({"tau_l": e.frictional_lag.map(|l| l.tau_l)}),
+        "drift" => json!({"beta": e.drift.map(|d| d.beta)}),
+        _ => json!({}),
+    }
+}
+
+/// The JSON report of issue 6.
+pub fn report_json(rep: &Report) -> String {
+    use serde_json::json;
+    let steps: Vec<_> = rep
+        .steps
+        .iter()
+        .map(|s| {
+            json!({
+                "effect": s.effect,
+                "params": effect_params(&s.model, &s.effect),
+                "rms_before": s.rms_before,
+                "rms_after": s.rms_after,
+                "score": s.score,
+                "signal": s.signal.0,
+                "signal_explained": s.signal.1,
+                "candidates": s.candidates.iter().map(|c| json!({"effect": c.effect, "rms": c.rms, "score": c.score})).collect::<Vec<_>>(),
+            })
+        })
+        .collect();
+    let v = json!({
+        "effects_added": rep.steps.iter().map(|s| s.effect.clone()).collect::<Vec<_>>(),
+        "metric": METRIC,
+        "rms_before": rep.rms_before,
+        "rms_after": rep.rms_after,
+        "rms_given": rep.given,
+        "regions": rep.regions.iter().map(|r| json!({"regime": r.regime, "t_start": r.t_start, "t_end": r.t_end, "rms": r.rms})).collect::<Vec<_>>(),
+        "regimes": rep.regimes.iter().map(|r| json!({"regime": r.regime, "n": r.n, "rms": r.rms})).collect::<Vec<_>>(),
+        "signals": rep.signals.iter().map(|(n, f)| json!({"signal": n, "explained": f})).collect::<Vec<_>>(),
+        "steps": steps,
+        "pruned": rep.pruned.iter().map(|(n, without, with)| json!({"effect": n, "rms_without": without, "rms_with": with})).collect::<Vec<_>>(),
+        "rejected": rep.last_round.iter().map(|c| json!({"effect": c.effect, "rms": c.rms, "score": c.score})).collect::<Vec<_>>(),
+        "accept_gain": ACCEPT_GAIN,
+        "start_model": model_json(&rep.start),
+        "model": model_json(&rep.model),
+        "samples": rep.n,
+        "dt": rep.dt,
+        "resolution": rep.resolution,
+    });
+    let mut s = serde_json::to_string_pretty(&v).unwrap_or_else(|_| "{}".into());
+    s.push('\n');
+    s
+}
+
+fn pct(before: f64, after: f64) -> String {
+    format!("{:.0} %", 100.0 * (before - after) / before)
+}
+
+/// The terminal text.
+pub fn report_text(rep: &Report, source: &str) -> String {
+    use crate::format::short;
+    use std::fmt::Write as _;
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "{source}: {} samples, dt = {} s, position resolution {} m",
+        rep.n,
+        short(rep.dt, 4),
+        short(rep.resolution, 3)
+    );
+    let _ = writeln!(s, "residual: force along the measured motion (MODEL.md §8: compared locally), held-out time blocks 2, 5, 8 of 10");
+    if let Some(g) = rep.given {
+        let _ = writeln!(
+            s,
+            "given model: held-out rms {} N as given, {} N refitted",
+            short(g, 4),
+            short(rep.rms_before, 4)
+        );
+    } else {
+        let _ = writeln!(
+            s,
+            "start: base model (Coulomb + Stribeck + presliding) identified from the data, held-out rms {} N",
+            short(rep.rms_before, 4)
+        );
+    }
+    if let Some(top) = rep.regimes.first() {
+        let _ = writeln!(
+            s,
+            "largest disagreement: {} (rms {} N over {} samples)",
+            top.regime,
+            short(top.rms, 3),
+            top.n
+        );
+    }
+    if let Some(r) = rep.regions.first() {
+        let _ = writeln!(
+            s,
+            "worst window: {} at t = {}-{} s (rms {} N)",
+            r.regime,
+            short(r.t_start, 5),
+            short(r.t_end, 5),
+            short(r.rms, 3)
+        );
+    }
+    let mut sig = rep.signals.clone();
+    sig.sort_by(|a, b| b.1.total_cmp(&a.1));
+    let list: Vec<String> = sig
+        .iter()
+        .map(|(n, f)| format!("{n} {:.0} %", 100.0 * f))
+        .collect();
+    let _ = writeln!(s, "residual explained by: {}", list.join(", "));
+    for (k, st) in rep.steps.iter().enumerate() {
+        let _ = writeln!(
+            s,
+            "step {}: missing effect `{}` (lines up with {}, {:.0} % explained); adding it shrinks the gap from {} N to {} N ({}), ΔBIC {}",
+            k + 1,
+            st.effect,
+            st.signal.0,
+            100.0 * st.signal.1,
+            short(st.rms_before, 4),
+            short(st.rms_after, 4),
+            pct(st.rms_before, st.rms_after),
+            short(st.score, 4)
+        );
+        let others: Vec<String> = st
+            .candidates
+            .iter()
+            .skip(1)
+            .take(3)
+            .map(|c| format!("{} {} N", c.effect, short(c.rms, 3)))
+            .collect();
+        if !others.is_empty() {
+            let _ = writeln!(s, "        next best: {}", others.join(", "));
+        }
+        let _ = writeln!(
+            s,
+            "        fitted: {}",
+            effect_params(&st.model, &st.effect)
+        );
+    }
+    if rep.steps.is_empty() {
+        let _ = writeln!(s, "no effect is missing: no candidate lowers the held-out rms by {:.0} % with a better BIC", 100.0 * ACCEPT_GAIN);
+    } else {
+        let _ = writeln!(
+            s,
+            "done: no further candidate lowers the held-out rms by {:.0} %; gap {} N -> {} N ({})",
+            100.0 * ACCEPT_GAIN,
+            short(rep.rms_before, 4),
+            short(rep.rms_after, 4),
+            pct(rep.rms_before, rep.rms_after)
+        );
+    }
+    for (n, without, with) in &rep.pruned {
+        let _ = writeln!(
+            s,
+            "backward check: `{n}` dropped again (held-out rms {} N without it, {} N with it)",
+            short(*without, 4),
+            short(*with, 4)
+        );
+    }
+    if let Some(c) = rep.last_round.first() {
+        let _ = writeln!(
+            s,
+            "best rejected candidate: {} (held-out rms {} N, ΔBIC {})",
+            c.effect,
+            short(c.rms, 4),
+            short(c.score, 4)
+        );
+    }
+    let added: Vec<&str> = rep.steps.iter().map(|s| s.effect.as_str()).collect();
+    let _ = writeln!(s, "effects added: [{}]", added.join(", "));
+    let m = &rep.model;
+    let _ = writeln!(
+        s,
+        "model: mass {} fc {} fs {} v_stribeck {} delta {} sigma {} z_max {}{}",
+        short(m.mass, 5),
+        short(m.fc, 5),
+        short(m.fs, 5),
+        short(m.v_stribeck, 4),
+        short(m.delta, 3),
+        short(m.sigma, 5),
+        short(m.z_max, 3),
+        if effect_params_all(m).is_empty() {
+            String::new()
+        } else {
+            format!(
+                " effects {}",
+                serde_json::Value::Object(effect_params_all(m))
+            )
+        }
+    );
+    s
+}
+
+/// Parameter list for `fit` output.
+pub fn params_json(params: &[Param]) -> Vec<String> {
+    params.iter().map(|p| format!("{p:?}")).collect()
+}

@@ -1,0 +1,806 @@
+//! Fitting a friction model to a measured record by the force residual along
+//! the measured motion (MODEL.md §1, §5, §8: compare locally).
+//!
+//! # The residual
+//!
+//! From the measured positions, a quadratic Savitzky–Golay filter over
+//! `2k+1` samples (`k = 5` by default) gives the velocity `v̂` and the
+//! acceleration `â` at each sample. The friction `F_i = F(t_i, x_i, v̂_i)` of
+//! the model (all §5 effects, [`breakaway_reference::Friction`]) runs along the
+//! measured positions, so its memory (turning points, dwell, lag) follows the
+//! real motion and nothing is integrated open-loop. The plant `m·ẍ = u − F`
+//! with `u` held between samples gives exactly, per sample,
+//! `m·(x_{l+1} − 2x_l + x_{l−1})/h² = (u_{l−1} + u_l)/2 − F_l` (F constant over
+//! the two intervals), and the Savitzky–Golay second derivative is a weighted
+//! sum of these second differences, `â_i = Σ_j W_j·Δ²x_{i+j}/h²` with
+//! `Σ W_j = 1`. The residual is therefore the force balance filtered by the
+//! same kernel,
+//!
+//! ```text
+//! r_i = Σ_j W_j·(ū_{i+j} − F_{i+j}) − m·â_i,     ū_l = (u_{l−1} + u_l)/2,
+//! ```
+//!
+//! zero for the true model up to noise, with no lag between force and
+//! acceleration. Its unit is N (N·m for rotary axes).
+//!
+//! # Weights and split
+//!
+//! Sliding samples outnumber break-away and presliding samples by far; to
+//! let each regime count, samples are grouped by direction and by speed
+//! (`|v̂|` at rest, then bins a factor 3 apart) and each group gets a total
+//! weight proportional to the square root of its size. The record is cut
+//! into 10 equal time blocks; blocks 2, 5 and 8 (0-based, 30 %) are held
+//! out, the rest is the training set.
+//!
+//! # Least squares
+//!
+//! Levenberg–Marquardt (Marquardt's diagonal scaling) on the training set,
+//! with positive parameters on a log scale, `a` through `tanh`, δ through a
+//! logistic map onto [`DELTA_RANGE`], and the
+//! parameters that enter `F` linearly (mass, σ, F0, ripple sin/cos
+//! amplitudes) with analytic Jacobian columns; the other columns are forward
+//! differences (one pass along the record each).
+
+use crate::reference::{
+    Asymmetry, Drift, DwellStiction, Friction, FrictionalLag, Model, Offset, PositionRipple,
+};
+use std::f64::consts::PI;
+
+/// Rest threshold in counts per sample: `v_rest = 0.02·q/h`, i.e. a rest
+/// is where the position has stayed on its encoder count for 50 samples
+/// (the 1/T velocity estimate has decayed below it); every Savitzky–Golay
+/// value with a count change inside the window is at least `q/(Σj²·h)`
+/// (0.045·q/h for k = 5), above it.
+pub const REST_COUNT_RATE: f64 = 0.02;
+
+/// Default half-width `k` of the Savitzky–Golay window (samples).
+pub const DEFAULT_HALF_WIDTH: usize = 5;
+/// Number of time blocks of the split.
+pub const BLOCKS: usize = 10;
+/// Held-out blocks (0-based).
+pub const HELD_OUT: [usize; 3] = [2, 5, 8];
+
+/// A record prepared for fitting: derivatives, kernel, weights, split.
+#[derive(Clone, Debug)]
+pub struct Prepared {
+    /// Time [s].
+    pub t: Vec<f64>,
+    /// Position [m].
+    pub x: Vec<f64>,
+    /// `(u_{l−1} + u_l)/2` [N].
+    pub u_mid: Vec<f64>,
+    /// Velocity estimate [m/s].
+    pub v: Vec<f64>,
+    /// Acceleration estimate [m/s²] (0 outside the valid range).
+    pub a: Vec<f64>,
+    /// Force kernel `W_j`, `j = −k … k`.
+    pub kernel: Vec<f64>,
+    /// Half-width `k`.
+    pub k: usize,
+    /// Sample weight (0 outside the valid range `k … n−k`).
+    pub weight: Vec<f64>,
+    /// Held-out flag per sample.
+    pub held_out: Vec<bool>,
+    /// Position resolution estimate [m] (smallest position step).
+    pub resolution: f64,
+    /// Rest threshold [m/s]: `|v̂|` below it means the position did not leave
+    /// its encoder count within the window.
+    pub v_rest: f64,
+    /// Sampling interval [s] (median).
+    pub dt: f64,
+}
+
+/// Quadratic Savitzky–Golay coefficients of the first and second derivative
+/// (per sample², unscaled by `h`), `j = −k … k`.
+fn sg_coefficients(k: usize) -> (Vec<f64>, Vec<f64>) {
+    let kf = k as f64;
+    let js: Vec<f64> = (0..=2 * k).map(|i| i as f64 - kf).collect();
+    let s2: f64 = js.iter().map(|j| j * j).sum();
+    let mu2 = kf * (kf + 1.0) / 3.0;
+    let d: f64 = js.iter().map(|j| (j * j - mu2).powi(2)).sum();
+    let c1 = js.iter().map(|j| j / s2).collect();
+    let c2 = js.iter().map(|j| 2.0 * (j * j - mu2) / d).collect();
+    (c1, c2)
+}
+
+/// The force kernel `W` with `Δ²W = c2` (summation by parts twice).
+fn force_kernel(c2: &[f64]) -> Vec<f64> {
+    // c2_j = W_{j−1} − 2W_j + W_{j+1} with W zero outside (−k, k).
+    let n = c2.len();
+    let mut w = vec![0.0; n + 2]; // w[i+1] = W at index i of c2; w[0] = W_{−k−1}
+    for i in 0..n {
+        // c2[i] = w[i] − 2 w[i+1] + w[i+2]
+        let next = c2[i] - w[i] + 2.0 * w[i + 1];
+        if i + 2 < n + 2 {
+            w[i + 2] = next;
+        }
+    }
+    // W_j for j = −k … k is w[1 ..= n]; shift so that the kernel applies to
+    // the sample l = i + j with Δ²x_l centred at l.
+    w[1..=n].to_vec()
+}
+
+impl Prepared {
+    /// Prepares `rec` with half-width `k` (≥ 2).
+    #[allow(clippy::needless_range_loop)] // several arrays indexed together
+    pub fn new(rec: &crate::data::Record, k: usize) -> Prepared {
+        let n = rec.len();
+        let dt = rec.dt();
+        let (c1, c2) = sg_coefficients(k);
+        let kernel = force_kernel(&c2);
+        let mut v = vec![0.0; n];
+        let mut a = vec![0.0; n];
+        for i in k..n.saturating_sub(k) {
+            let (mut sv, mut sa) = (0.0, 0.0);
+            for (j, (p, q)) in c1.iter().zip(&c2).enumerate() {
+                let xi = rec.x[i + j - k];
+                sv += p * xi;
+                sa += q * xi;
+            }
+            v[i] = sv / dt;
+            a[i] = sa / (dt * dt);
+        }
+        // Edges: one-sided differences for the velocity (the friction memory
+        // runs there too); no residual is formed there.
+        for i in (0..k.min(n)).chain(n.saturating_sub(k)..n) {
+            let (i0, i1) = if i + 1 < n { (i, i + 1) } else { (i - 1, i) };
+            v[i] = (rec.x[i1] - rec.x[i0]) / (rec.t[i1] - rec.t[i0]);
+        }
+        let (q, n_rest) = Self::resolution_of(&rec.x);
+        // Where the position has not changed over the whole window, the
+        // velocity is the encoder's "1/T" estimate: one count over the time
+        // since the last count change, with that change's sign. It decays
+        // like 1/T during a rest, so `|v| <= v_rest` marks a rest once the
+        // position has stayed on its count for q/(v_rest·h) samples.
+        let mut last_change: Option<(usize, f64)> = None;
+        for i in 0..n {
+            if i > 0 && rec.x[i] != rec.x[i - 1] {
+                last_change = Some((i, (rec.x[i] - rec.x[i - 1]).signum()));
+            }
+            let lo = i.saturating_sub(k);
+            let hi = (i + k).min(n - 1);
+            if i >= k && i + k < n && rec.x[lo..=hi].iter().all(|&x| x == rec.x[i]) {
+                v[i] = match last_change {
+                    Some((j, sgn)) => sgn * q / (rec.t[i] - rec.t[j]),
+                    None => q / (rec.t[i] - rec.t[0] + dt),
+                };
+            }
+        }
+        let _ = n_rest;
+        if let Some(mv) = &rec.v {
+            v.clone_from(mv);
+        }
+        let mut u_mid = rec.u.clone();
+        for i in 1..n {
+            u_mid[i] = 0.5 * (rec.u[i - 1] + rec.u[i]);
+        }
+        let resolution = q;
+        let v_rest = REST_COUNT_RATE * q / dt;
+        let mut p = Prepared {
+            t: rec.t.clone(),
+            x: rec.x.clone(),
+            u_mid,
+            v,
+            a,
+            kernel,
+            k,
+            weight: vec![0.0; n],
+            held_out: vec![false; n],
+            resolution,
+            v_rest,
+            dt,
+        };
+        p.set_split();
+        p.set_weights();
+        p
+    }
+
+    /// Position resolution: the smallest position step of the record
+    /// (steps below 1e-12 of the range are rounding, not counts).
+    fn resolution_of(x: &[f64]) -> (f64, usize) {
+        let range = x.iter().fold(f64::NEG_INFINITY, |m, &x| m.max(x))
+            - x.iter().fold(f64::INFINITY, |m, &x| m.min(x));
+        let floor = 1e-12 * range.max(1e-300);
+        let q = x
+            .windows(2)
+            .map(|w| (w[1] - w[0]).abs())
+            .filter(|d| *d > floor)
+            .fold(f64::INFINITY, f64::min);
+        let zero = x.windows(2).filter(|w| w[1] == w[0]).count();
+        (if q.is_finite() { q } else { range.max(1e-9) }, zero)
+    }
+
+    /// Number of samples.
+    pub fn len(&self) -> usize {
+        self.t.len()
+    }
+
+    /// True when empty.
+    pub fn is_empty(&self) -> bool {
+        self.t.is_empty()
+    }
+
+    /// Indices with a residual (`k … n−k`).
+    pub fn valid(&self) -> std::ops::Range<usize> {
+        self.k..self.len().saturating_sub(self.k)
+    }
+
+    fn set_split(&mut self) {
+        let n = self.len();
+        let (t0, t1) = (self.t[0], self.t[n - 1]);
+        for i in 0..n {
+            let b = (((self.t[i] - t0) / (t1 - t0)) * BLOCKS as f64) as usize;
+            self.held_out[i] = HELD_OUT.contains(&b.min(BLOCKS - 1));
+        }
+    }
+
+    /// Speed/direction class of a sample (for the weights).
+    fn class(&self, i: usize) -> usize {
+        let s = self.v[i].abs();
+        if s <= self.v_rest {
+            return 0;
+        }
+        let b = ((s / self.v_rest).ln() / 3f64.ln())
+            .floor()
+            .clamp(0.0, 30.0) as usize;
+        1 + 2 * b + usize::from(self.v[i] < 0.0)
+    }
+
+    fn set_weights(&mut self) {
+        let mut count = [0usize; 64];
+        for i in self.valid() {
+            count[self.class(i)] += 1;
+        }
+        let mut total = 0.0;
+        for i in self.valid() {
+            let c = count[self.class(i)] as f64;
+            self.weight[i] = 1.0 / c.sqrt();
+            total += self.weight[i];
+        }
+        let nv = self.valid().len() as f64;
+        if total > 0.0 {
+            for w in &mut self.weight {
+                *w *= nv / total;
+            }
+        }
+    }
+
+    /// Error-in-variables weights for model `m` with residual `r` (of `m`):
+    /// the residual of sample `i` has variance
+    /// `σ0² + (q²/12)·(Σ_j W_j·|∂F/∂x|_{i+j})²` — the force noise `σ0`
+    /// (estimated from differences of the residual `2k+1` samples apart in
+    /// sliding, which slowly varying effects do not reach) plus the
+    /// encoder's quantisation `q` propagated through the presliding
+    /// stiffness `∂H/∂x = (d·S − H_r)·(−ln w)/z_max` (huge right after a
+    /// turning point). Each sample's class weight is multiplied by
+    /// `σ0²/var_i` (≤ 1). Returns `σ0`.
+    pub fn set_error_weights(&mut self, m: &Model, r: &[f64]) -> f64 {
+        let lag = 2 * self.k + 1;
+        let mut speeds: Vec<f64> = self.valid().map(|i| self.v[i].abs()).collect();
+        speeds.sort_by(f64::total_cmp);
+        let fast = speeds.get(speeds.len() / 2).copied().unwrap_or(0.0);
+        let mut d: Vec<f64> = self
+            .valid()
+            .filter(|&i| i + lag < self.len() - self.k)
+            .filter(|&i| self.v[i].abs() >= fast && self.v[i + lag].abs() >= fast)
+            .map(|i| (r[i] - r[i + lag]).abs())
+            .collect();
+        d.sort_by(f64::total_cmp);
+        let sigma0 = match d.get(d.len() / 2) {
+            Some(&med) if med > 0.0 => med / (0.6745 * std::f64::consts::SQRT_2),
+            _ => 1e-3 * m.fc,
+        };
+        let sens = self.position_sensitivity(m);
+        let q2 = self.resolution * self.resolution / 12.0;
+        self.set_weights();
+        for i in self.valid() {
+            let s = self.filter_at(&sens, i).abs();
+            let var = sigma0 * sigma0 + q2 * s * s;
+            self.weight[i] *= sigma0 * sigma0 / var;
+        }
+        sigma0
+    }
+
+    /// `|∂H/∂x|` [N/m] of the presliding branch at every sample (0 in gross
+    /// sliding), with `w` at least half an encoder count from the turning
+    /// point.
+    pub fn position_sensitivity(&self, m: &Model) -> Vec<f64> {
+        let mut fr = Friction::new(m, self.t[0], self.x[0], self.v[0]);
+        if m.z_max <= 0.0 {
+            return vec![0.0; self.len()];
+        }
+        let w_min = (0.5 * self.resolution / m.z_max).min(0.5);
+        (0..self.len())
+            .map(|i| {
+                fr.update(m, self.t[i], self.x[i], self.v[i]);
+                let pre = fr.presliding();
+                let w = pre.travel(m.z_max, self.x[i]);
+                if pre.direction() != 0 && w >= 1.0 {
+                    return 0.0;
+                }
+                let w = w.max(w_min);
+                let amp = if pre.direction() == 0 {
+                    m.fs
+                } else {
+                    let g = w * (1.0 - w.ln());
+                    ((fr.dry() - pre.dry_at_turning_point()) / g).abs()
+                };
+                amp * (-w.ln()) / m.z_max
+            })
+            .collect()
+    }
+
+    /// Applies the force kernel to a per-sample series `s` at sample `i`.
+    pub fn filter_at(&self, s: &[f64], i: usize) -> f64 {
+        let mut acc = 0.0;
+        for (j, w) in self.kernel.iter().enumerate() {
+            acc += w * s[i + j - self.k];
+        }
+        acc
+    }
+
+    /// The friction `F` of `m` along the measured motion, every sample.
+    pub fn friction(&self, m: &Model) -> Vec<f64> {
+        let mut fr = Friction::new(m, self.t[0], self.x[0], self.v[0]);
+        (0..self.len())
+            .map(|i| fr.update(m, self.t[i], self.x[i], self.v[i]))
+            .collect()
+    }
+
+    /// The residual `r_i` of `m` (0 outside the valid range).
+    pub fn residual(&self, m: &Model) -> Vec<f64> {
+        let f = self.friction(m);
+        let d: Vec<f64> = self.u_mid.iter().zip(&f).map(|(u, f)| u - f).collect();
+        let mut r = vec![0.0; self.len()];
+        for i in self.valid() {
+            r[i] = self.filter_at(&d, i) - m.mass * self.a[i];
+        }
+        r
+    }
+
+    /// Weighted RMS of `r` over the samples selected by `held_out`
+    /// (`None`: all valid samples).
+    pub fn rms(&self, r: &[f64], held_out: Option<bool>) -> f64 {
+        let (mut s, mut w) = (0.0, 0.0);
+        for i in self.valid() {
+            if held_out.is_none_or(|h| self.held_out[i] == h) {
+                s += self.weight[i] * r[i] * r[i];
+                w += self.weight[i];
+            }
+        }
+        if w > 0.0 {
+            (s / w).sqrt()
+        } else {
+            f64::NAN
+        }
+    }
+
+    /// Number of valid samples in the held-out (`true`) or training set.
+    pub fn count(&self, held_out: bool) -> usize {
+        self.valid()
+            .filter(|&i| self.held_out[i] == held_out)
+            .count()
+    }
+}
+
+/// A free parameter of the fit.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Param {
+    /// `mass` [kg], linear.
+    Mass,
+    /// `fc` [N], log.
+    Fc,
+    /// `fs − fc` [N], log.
+    FsExcess,
+    /// `v_stribeck` [m/s], log.
+    VStribeck,
+    /// `delta`, log.
+    Delta,
+    /// `sigma` [N·s/m], linear, ≥ 0.
+    Sigma,
+    /// `z_max` [m], log.
+    ZMax,
+    /// `effects.offset.f0` [N], linear.
+    F0,
+    /// `effects.asymmetry.a`, tanh.
+    Asym,
+    /// `A·cos φ` [N], linear.
+    RippleC,
+    /// `A·sin φ` [N], linear.
+    RippleS,
+    /// `effects.position_ripple.wavelength` [m], log.
+    RippleLambda,
+    /// `effects.dwell_stiction.delta_fs` [N], log.
+    DwellDfs,
+    /// `effects.dwell_stiction.gamma` [s], log.
+    DwellGamma,
+    /// `effects.frictional_lag.tau_l` [s], log.
+    LagTau,
+    /// `effects.drift.beta` [1/s], linear (scaled by the record length).
+    DriftBeta,
+}
+
+/// The catalogue names of MODEL.md §5 that a model may lack.
+pub const CATALOGUE: [&str; 9] = [
+    "viscous",
+    "offset",
+    "asymmetry",
+    "position_ripple",
+    "dwell_stiction",
+    "frictional_lag",
+    "drift",
+    "stribeck",
+    "presliding",
+];
+
+/// Which effects of §5 a model has.
+pub fn has_effect(m: &Model, name: &str) -> bool {
+    let e = &m.effects;
+    match name {
+        "viscous" => m.sigma > 0.0,
+        "offset" => e.offset.is_some(),
+        "asymmetry" => e.asymmetry.is_some(),
+        "position_ripple" => e.position_ripple.is_some(),
+        "dwell_stiction" => e.dwell_stiction.is_some(),
+        "frictional_lag" => e.frictional_lag.is_some(),
+        "drift" => e.drift.is_some(),
+        "stribeck" => m.fs > m.fc,
+        "presliding" => m.z_max > 0.0,
+        _ => false,
+    }
+}
+
+/// The names of the effects `m` has, in catalogue order.
+pub fn effects_of(m: &Model) -> Vec<&'static str> {
+    CATALOGUE
+        .iter()
+        .copied()
+        .filter(|n| has_effect(m, n))
+        .collect()
+}
+
+/// The free parameters of a model's structure (mass and Fc always).
+pub fn params_of(m: &Model) -> Vec<Param> {
+    let mut p = vec![Param::Mass, Param::Fc];
+    if has_effect(m, "stribeck") {
+        p.extend([Param::FsExcess, Param::VStribeck, Param::Delta]);
+    }
+    if has_effect(m, "presliding") {
+        p.push(Param::ZMax);
+    }
+    if has_effect(m, "viscous") {
+        p.push(Param::Sigma);
+    }
+    let e = &m.effects;
+    if e.offset.is_some() {
+        p.push(Param::F0);
+    }
+    if e.asymmetry.is_some() {
+        p.push(Param::Asym);
+    }
+    if e.position_ripple.is_some() {
+        p.extend([Param::RippleC, Param::RippleS, Param::RippleLambda]);
+    }
+    if e.dwell_stiction.is_some() {
+        p.extend([Param::DwellDfs, Param::DwellGamma]);
+    }
+    if e.frictional_lag.is_some() {
+        p.push(Param::LagTau);
+    }
+    if e.drift.is_some() {
+        p.push(Param::DriftBeta);
+    }
+    p
+}
+
+/// Range of the fitted shape exponent δ (MODEL.md §2: typically 0.5 … 2).
+pub const DELTA_RANGE: (f64, f64) = (0.3, 4.0);
+
+/// Lower bound used for log-scaled values that are 0 in a model.
+const TINY: f64 = 1e-300;
+
+fn get(m: &Model, p: Param, t_span: f64) -> f64 {
+    let e = &m.effects;
+    let rip = e.position_ripple.unwrap_or(PositionRipple {
+        amplitude: 0.0,
+        wavelength: 1.0,
+        phase: 0.0,
+    });
+    let dw = e.dwell_stiction.unwrap_or(DwellStiction {
+        delta_fs: 0.0,
+        gamma: 1.0,
+        v_rest: 1.0,
+    });
+    match p {
+        Param::Mass => m.mass,
+        Param::Fc => m.fc.max(TINY).ln(),
+        Param::FsExcess => (m.fs - m.fc).max(1e-6 * m.fc).ln(),
+        Param::VStribeck => m.v_stribeck.ln(),
+        Param::Delta => {
+            // δ = lo + (hi − lo)·sigmoid(θ): smooth, no flat clamp.
+            let u = ((m.delta - DELTA_RANGE.0) / (DELTA_RANGE.1 - DELTA_RANGE.0))
+                .clamp(1e-6, 1.0 - 1e-6);
+            (u / (1.0 - u)).ln()
+        }
+        Param::Sigma => m.sigma,
+        Param::ZMax => m.z_max.max(TINY).ln(),
+        Param::F0 => e.offset.map_or(0.0, |o| o.f0),
+        Param::Asym => e.asymmetry.map_or(0.0, |a| a.a.clamp(-0.95, 0.95).atanh()),
+        Param::RippleC => rip.amplitude * rip.phase.cos(),
+        Param::RippleS => rip.amplitude * rip.phase.sin(),
+        Param::RippleLambda => rip.wavelength.ln(),
+        Param::DwellDfs => dw.delta_fs.max(1e-6 * m.fc).ln(),
+        Param::DwellGamma => dw.gamma.ln(),
+        Param::LagTau => e.frictional_lag.map_or(0.0, |l| l.tau_l.ln()),
+        Param::DriftBeta => e.drift.map_or(0.0, |d| d.beta) * t_span,
+    }
+}
+
+fn set(m: &mut Model, p: Param, th: f64, t_span: f64) {
+    let e = &mut m.effects;
+    match p {
+        Param::Mass => m.mass = th.max(1e-9),
+        Param::Fc => {
+            let excess = m.fs - m.fc;
+            m.fc = th.clamp(-200.0, 200.0).exp();
+            m.fs = m.fc + excess.max(0.0);
+        }
+        Param::FsExcess => m.fs = m.fc + th.clamp(-200.0, 200.0).exp(),
+        Param::VStribeck => m.v_stribeck = th.clamp(-200.0, 200.0).exp(),
+        Param::Delta => {
+            let u = 1.0 / (1.0 + (-th.clamp(-40.0, 40.0)).exp());
+            m.delta = DELTA_RANGE.0 + (DELTA_RANGE.1 - DELTA_RANGE.0) * u;
+        }
+        Param::Sigma => m.sigma = th.max(0.0),
+        Param::ZMax => m.z_max = th.clamp(-200.0, 200.0).exp(),
+        Param::F0 => e.offset = Some(Offset { f0: th }),
+        Param::Asym => {
+            e.asymmetry = Some(Asymmetry {
+                a: th.clamp(-3.0, 3.0).tanh(),
+            })
+        }
+        Param::RippleC | Param::RippleS | Param::RippleLambda => {
+            let r = e.position_ripple.unwrap_or(PositionRipple {
+                amplitude: 0.0,
+                wavelength: 1.0,
+                phase: 0.0,
+            });
+            let (mut c, mut s) = (r.amplitude * r.phase.cos(), r.amplitude * r.phase.sin());
+            let mut lam = r.wavelength;
+            match p {
+                Param::RippleC => c = th,
+                Param::RippleS => s = th,
+                _ => lam = th.clamp(-200.0, 200.0).exp(),
+            }
+            e.position_ripple = Some(PositionRipple {
+                amplitude: c.hypot(s),
+                wavelength: lam,
+                phase: s.atan2(c),
+            });
+        }
+        Param::DwellDfs | Param::DwellGamma => {
+            let mut d = e.dwell_stiction.unwrap_or(DwellStiction {
+                delta_fs: 0.0,
+                gamma: 1.0,
+                v_rest: 1.0,
+            });
+            let v = th.clamp(-200.0, 200.0).exp();
+            if p == Param::DwellDfs {
+                d.delta_fs = v;
+            } else {
+                d.gamma = v.clamp(5e-3, 100.0);
+            }
+            e.dwell_stiction = Some(d);
+        }
+        Param::LagTau => {
+            // τ_L below a millisecond is indistinguishable from no lag at
+            // the sampling rates this is for; the bound keeps LM from
+            // running off to τ_L → 0.
+            e.frictional_lag = Some(FrictionalLag {
+                tau_l: th.clamp(1e-3f64.ln(), 100f64.ln()).exp(),
+            })
+        }
+        Param::DriftBeta => e.drift = Some(Drift { beta: th / t_span }),
+    }
+}
+
+/// The parameter vector of `m` for `params`.
+pub fn encode(m: &Model, params: &[Param], t_span: f64) -> Vec<f64> {
+    params.iter().map(|&p| get(m, p, t_span)).collect()
+}
+
+/// `m` with the parameter vector `th` applied.
+pub fn decode(m: &Model, params: &[Param], th: &[f64], t_span: f64) -> Model {
+    let mut out = m.clone();
+    for (&p, &x) in params.iter().zip(th) {
+        set(&mut out, p, x, t_span);
+    }
+    out
+}
+
+/// Fit settings.
+#[derive(Clone, Copy, Debug)]
+pub struct FitOptions {
+    /// Most Levenberg–Marquardt iterations.
+    pub max_iter: usize,
+    /// Stop when an accepted step lowers the cost by less than this fraction.
+    pub rel_tol: f64,
+}
+
+impl Default for FitOptions {
+    fn default() -> Self {
+        FitOptions {
+            max_iter: 40,
+            rel_tol: 1e-6,
+        }
+    }
+}
+
+/// Outcome of a fit.
+#[derive(Clone, Debug)]
+pub struct FitResult {
+    /// The fitted model.
+    pub model: Model,
+    /// Weighted training cost `Σ w·r²`.
+    pub cost: f64,
+    /// Passes along the record used.
+    pub passes: usize,
+}
+
+/// The training residual vector `√w·r` of `m`.
+fn train_vec(p: &Prepared, m: &Model, idx: &[usize]) -> (Vec<f64>, Vec<f64>) {
+    let r = p.residual(m);
+    let e = idx.iter().map(|&i| p.weight[i].sqrt() * r[i]).collect();
+    (e, r)
+}
+
+/// Weighted training cost of `m`.
+pub fn train_cost(p: &Prepared, m: &Model) -> f64 {
+    let idx = train_indices(p);
+    train_vec(p, m, &idx).0.iter().map(|e| e * e).sum()
+}
+
+fn train_indices(p: &Prepared) -> Vec<usize> {
+    p.valid().filter(|&i| !p.held_out[i]).collect()
+}
+
+#[allow(clippy::needless_range_loop)] // dense Gaussian elimination
+fn solve(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Option<Vec<f64>> {
+    let n = b.len();
+    for c in 0..n {
+        let piv = (c..n).max_by(|&i, &j| a[i][c].abs().total_cmp(&a[j][c].abs()))?;
+        if a[piv][c].abs() < 1e-300 {
+            return None;
+        }
+        a.swap(c, piv);
+        b.swap(c, piv);
+        for r in c + 1..n {
+            let f = a[r][c] / a[c][c];
+            for k in c..n {
+                a[r][k] -= f * a[c][k];
+            }
+            b[r] -= f * b[c];
+        }
+    }
+    let mut x = vec![0.0; n];
+    for r in (0..n).rev() {
+        let s: f64 = (r + 1..n).map(|k| a[r][k] * x[k]).sum();
+        x[r] = (b[r] - s) / a[r][r];
+    }
+    x.iter().all(|v| v.is_finite()).then_some(x)
+}
+
+/// Analytic Jacobian column `∂r/∂θ` for parameters that enter linearly.
+fn analytic_column(p: &Prepared, m: &Model, par: Param, idx: &[usize]) -> Option<Vec<f64>> {
+    let col = |s: &[f64]| -> Vec<f64> {
+        idx.iter()
+            .map(|&i| -p.weight[i].sqrt() * p.filter_at(s, i))
+            .collect()
+    };
+    match par {
+        Param::Mass => Some(idx.iter().map(|&i| -p.weight[i].sqrt() * p.a[i]).collect()),
+        Param::Sigma => Some(col(&p.v)),
+        Param::F0 => Some(col(&vec![1.0; p.len()])),
+        Param::RippleC | Param::RippleS => {
+            let lam = m.effects.position_ripple.map_or(1.0, |r| r.wavelength);
+            let s: Vec<f64> =
+                p.x.iter()
+                    .map(|&x| {
+                        let th = 2.0 * PI * x / lam;
+                        if par == Param::RippleC {
+                            th.sin()
+                        } else {
+                            th.cos()
+                        }
+                    })
+                    .collect();
+            Some(col(&s))
+        }
+        _ => None,
+    }
+}
+
+/// Levenberg–Marquardt fit of the parameters `params` of `m0` on the
+/// training set; `tick` is called once per iteration (for progress).
+pub fn fit(
+    p: &Prepared,
+    m0: &Model,
+    params: &[Param],
+    opts: &FitOptions,
+    tick: &mut dyn FnMut(usize),
+) -> FitResult {
+    let t_span = (p.t[p.len() - 1] - p.t[0]).max(1e-9);
+    let idx = train_indices(p);
+    let np = params.len();
+    let mut th = encode(m0, params, t_span);
+    let mut model = decode(m0, params, &th, t_span);
+    let (mut e, _) = train_vec(p, &model, &idx);
+    let mut passes = 1;
+    let mut cost: f64 = e.iter().map(|v| v * v).sum();
+    let mut lambda = 1e-3;
+    for it in 0..opts.max_iter {
+        tick(it);
+        // Jacobian columns.
+        let mut cols: Vec<Vec<f64>> = Vec::with_capacity(np);
+        for (j, &par) in params.iter().enumerate() {
+            if let Some(c) = analytic_column(p, &model, par, &idx) {
+                cols.push(c);
+                continue;
+            }
+            let h = 1e-4 * th[j].abs().max(1.0);
+            let mut th2 = th.clone();
+            th2[j] += h;
+            let m2 = decode(m0, params, &th2, t_span);
+            let (e2, _) = train_vec(p, &m2, &idx);
+            passes += 1;
+            cols.push(e2.iter().zip(&e).map(|(a, b)| (a - b) / h).collect());
+        }
+        let mut a = vec![vec![0.0; np]; np];
+        let mut g = vec![0.0; np];
+        for r in 0..np {
+            for c in r..np {
+                let s: f64 = cols[r].iter().zip(&cols[c]).map(|(x, y)| x * y).sum();
+                a[r][c] = s;
+                a[c][r] = s;
+            }
+            g[r] = -cols[r].iter().zip(&e).map(|(x, y)| x * y).sum::<f64>();
+        }
+        let mut improved = false;
+        let mut rel = 0.0;
+        while lambda < 1e10 {
+            let mut aa = a.clone();
+            for (d, row) in aa.iter_mut().enumerate() {
+                row[d] += lambda * a[d][d].max(1e-12 * (1.0 + a[d][d]));
+            }
+            let Some(step) = solve(aa, g.clone()) else {
+                lambda *= 10.0;
+                continue;
+            };
+            let th2: Vec<f64> = th.iter().zip(&step).map(|(a, b)| a + b).collect();
+            let m2 = decode(m0, params, &th2, t_span);
+            let (e2, _) = train_vec(p, &m2, &idx);
+            passes += 1;
+            let c2: f64 = e2.iter().map(|v| v * v).sum();
+            if c2.is_finite() && c2 < cost {
+                rel = (cost - c2) / cost;
+                // Re-encode: clamps in `set` may have moved the values.
+                th = encode(&m2, params, t_span);
+                model = m2;
+                e = e2;
+                cost = c2;
+                lambda = (lambda / 3.0).max(1e-9);
+                improved = true;
+                break;
+            }
+            lambda *= 4.0;
+        }
+        if !improved || rel < opts.rel_tol {
+            break;
+        }
+    }
+    FitResult {
+        model,
+        cost,
+        passes,
+    }
+}

@@ -1,0 +1,457 @@
+//! The discrepancy workflow's command line: synth → fit → validate →
+//! diagnose on a small synthetic record, the JSON report's keys, and bad
+//! input (one-line errors naming file and line/column, non-zero exit, no
+//! panic, inputs untouched).
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+const BIN: &str = env!("CARGO_BIN_EXE_breakaway-lab");
+
+fn tmp(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("wf_{name}"))
+}
+
+fn run(args: &[&str]) -> Output {
+    Command::new(BIN)
+        .args(args)
+        .output()
+        .expect("runs the binary")
+}
+
+fn ok(args: &[&str]) -> String {
+    let o = run(args);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{args:?}: {err}");
+    String::from_utf8(o.stdout).unwrap()
+}
+
+/// Exit code 1 or 2, exactly one stderr line `error: …` with every needle.
+fn fails(args: &[&str], needles: &[&str]) -> String {
+    let o = run(args);
+    let err = String::from_utf8(o.stderr.clone()).unwrap();
+    assert!(matches!(o.status.code(), Some(1 | 2)), "{args:?}: {err}");
+    let lines: Vec<&str> = err.lines().collect();
+    assert_eq!(lines.len(), 1, "{args:?}: not one line: {err}");
+    assert!(
+        lines[0].starts_with("error: ") && !err.contains("panicked"),
+        "{err}"
+    );
+    for n in needles {
+        assert!(lines[0].contains(n), "{args:?}: `{}` lacks `{n}`", lines[0]);
+    }
+    lines[0].to_string()
+}
+
+fn write(name: &str, text: &str) -> String {
+    let p = tmp(name);
+    std::fs::write(&p, text).unwrap();
+    p.to_string_lossy().into_owned()
+}
+
+fn good_csv(n: usize) -> String {
+    let mut s = String::from("# comment\nx,t,u,extra\n");
+    for i in 0..n {
+        let t = i as f64 * 1e-3;
+        s.push_str(&format!(
+            "{},{t},{},7\n",
+            1e-3 * (t * 3.0).sin(),
+            (t * 3.0).cos()
+        ));
+    }
+    s
+}
+
+#[test]
+fn synth_fit_validate_diagnose() {
+    let data = tmp("offset.csv");
+    let truth = tmp("offset_truth.toml");
+    let (d, t) = (data.to_str().unwrap(), truth.to_str().unwrap());
+    let out = ok(&[
+        "synth", "--effect", "offset", "--seed", "2", "--out", d, "--truth", t,
+    ]);
+    assert!(out.contains("samples written"));
+    let text = std::fs::read_to_string(&data).unwrap();
+    assert!(text.starts_with("# breakaway-lab synth --effect offset --seed 2"));
+    let before = text.clone();
+
+    // fit with the truth's structure recovers the offset.
+    let fitted = tmp("offset_fit.toml");
+    let j = ok(&[
+        "fit",
+        d,
+        "--model",
+        t,
+        "--json",
+        "--model-out",
+        fitted.to_str().unwrap(),
+    ]);
+    let v: serde_json::Value = serde_json::from_str(&j).unwrap();
+    let f0 = v["model"]["effects"]["offset"]["f0"].as_f64().unwrap();
+    let truth_text = std::fs::read_to_string(&truth).unwrap();
+    let m = breakaway_reference::Model::from_toml_str(&truth_text).unwrap();
+    let f0_true = m.effects.offset.unwrap().f0;
+    assert!(
+        (f0 - f0_true).abs() < 0.1 * f0_true.abs(),
+        "f0 {f0} vs {f0_true}"
+    );
+    assert!(v["rms_held_out"].as_f64().unwrap() < 0.05);
+
+    // validate: the metric of the fitted model, per regime.
+    let j = ok(&["validate", d, "--model", fitted.to_str().unwrap(), "--json"]);
+    let v: serde_json::Value = serde_json::from_str(&j).unwrap();
+    assert!(v["rms"].as_f64().unwrap() < 0.05);
+    assert!(!v["regimes"].as_array().unwrap().is_empty());
+
+    // diagnose: names the offset, JSON keys of issue 6, SVG, model file.
+    let (rep, svg, mo) = (tmp("rep.json"), tmp("plot.svg"), tmp("diag.toml"));
+    let text = ok(&[
+        "diagnose",
+        d,
+        "--json",
+        rep.to_str().unwrap(),
+        "--svg",
+        svg.to_str().unwrap(),
+        "--model-out",
+        mo.to_str().unwrap(),
+    ]);
+    assert!(text.contains("missing effect `offset`"), "{text}");
+    assert!(text.contains("largest disagreement"));
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&rep).unwrap()).unwrap();
+    for key in [
+        "effects_added",
+        "metric",
+        "rms_before",
+        "rms_after",
+        "regions",
+        "steps",
+        "model",
+    ] {
+        assert!(v.get(key).is_some(), "missing key {key}");
+    }
+    assert_eq!(v["effects_added"], serde_json::json!(["offset"]));
+    let r0 = &v["regions"][0];
+    for key in ["regime", "t_start", "t_end", "rms"] {
+        assert!(r0.get(key).is_some(), "regions lack {key}");
+    }
+    let s0 = &v["steps"][0];
+    for key in ["effect", "params", "rms_before", "rms_after", "score"] {
+        assert!(s0.get(key).is_some(), "steps lack {key}");
+    }
+    assert!(v["rms_after"].as_f64().unwrap() < 0.5 * v["rms_before"].as_f64().unwrap());
+    assert!(std::fs::read_to_string(&svg).unwrap().starts_with("<svg"));
+    let back = breakaway_reference::Model::load(&mo).unwrap();
+    assert!(back.effects.offset.is_some());
+    // The input was not touched.
+    assert_eq!(std::fs::read_to_string(&data).unwrap(), before);
+    // Refuses to overwrite its input.
+    fails(
+        &["diagnose", d, "--model-out", d],
+        &["refusing to overwrite"],
+    );
+    assert_eq!(std::fs::read_to_string(&data).unwrap(), before);
+}
+
+#[test]
+fn bad_csv_input() {
+    let missing = write("missing.csv", "t,u\n0,1\n");
+    fails(
+        &["validate", &missing, "--model", "m.toml"],
+        &["missing.csv", "line 1", "`x`"],
+    );
+    let g = good_csv(400);
+    let mut lines: Vec<String> = g.lines().map(String::from).collect();
+    lines[100] = lines[99].clone(); // repeats t
+    let nonincr = write("nonincr.csv", &lines.join("\n"));
+    fails(
+        &["fit", &nonincr],
+        &["nonincr.csv", "line 101", "`t`", "does not increase"],
+    );
+    let mut lines: Vec<String> = g.lines().map(String::from).collect();
+    let f: Vec<String> = lines[50].split(',').map(String::from).collect();
+    lines[50] = format!("{},{},NaN,{}", f[0], f[1], f[3]);
+    let nan = write("nan.csv", &lines.join("\n"));
+    fails(&["fit", &nan], &["nan.csv", "line 51", "`u`", "not finite"]);
+    let mut lines: Vec<String> = g.lines().map(String::from).collect();
+    let f: Vec<&str> = lines[70].split(',').collect();
+    lines[70] = format!("inf,{},{},{}", f[1], f[2], f[3]);
+    let inf = write("inf.csv", &lines.join("\n"));
+    fails(
+        &["diagnose", &inf],
+        &["inf.csv", "line 71", "`x`", "not finite"],
+    );
+    let mut lines: Vec<String> = g.lines().map(String::from).collect();
+    lines[30] = "1,abc,2,3".into();
+    let text = write("text.csv", &lines.join("\n"));
+    fails(
+        &["diagnose", &text],
+        &["text.csv", "line 31", "`t`", "`abc` is not a number"],
+    );
+    let few = write("few.csv", &good_csv(20));
+    fails(&["diagnose", &few], &["few.csv", "too few samples"]);
+    let short_row = write("short.csv", "t,u,x\n0,1,2\n0.001,1\n");
+    fails(
+        &["fit", &short_row],
+        &["short.csv", "line 3", "`x` missing"],
+    );
+    fails(
+        &["fit", &tmp("nope.csv").to_string_lossy()],
+        &["nope.csv", "cannot read"],
+    );
+    fails(&["fit", "--model"], &["--model", "missing value"]);
+    fails(&["diagnose", "a.csv", "--candidates", "magic"], &["magic"]);
+    fails(
+        &["synth", "--effect", "magic", "--out", "x.csv"],
+        &["magic"],
+    );
+    fails(&["synth", "--effect", "offset"], &["--out"]);
+    fails(&["validate", "a.csv"], &["--model"]);
+}
+
+#[test]
+fn bad_model_file() {
+    let data = write("ok.csv", &good_csv(400));
+    let bad = write("bad_model.toml", "mass = 1.0\nfc = 1.0\n");
+    fails(
+        &["validate", &data, "--model", &bad],
+        &["bad_model.toml", "fs", "missing"],
+    );
+    let bad = write("bad_key.toml", "mass = 1.0\nfc = 1.0\nfs = 0.5\nv_stribeck = 1e-3\ndelta = 1.0\nsigma = 0.0\nz_max = 1e-5\nepsilon = 0.0\n");
+    fails(
+        &["diagnose", &data, "--model", &bad],
+        &["bad_key.toml", "fs", ">= fc"],
+    );
+    let bad = write("syntax.toml", "mass = = 1\n");
+    fails(&["fit", &data, "--model", &bad], &["syntax.toml", "line 1"]);
+}
+
+/// A MATLAB v5 file with uncompressed real double arrays.
+fn mat_file(vars: &[(&str, Vec<f64>)]) -> Vec<u8> {
+    let mut b = vec![b' '; 116];
+    b[..20].copy_from_slice(b"MATLAB 5.0 MAT-file ");
+    b.extend_from_slice(&[0u8; 8]);
+    b.extend_from_slice(&0x0100u16.to_le_bytes());
+    b.extend_from_slice(b"IM");
+    let pad = |v: &mut Vec<u8>| {
+        while v.len() & 7 != 0 {
+            v.push(0);
+        }
+    };
+    for (name, data) in vars {
+        let mut e = Vec::new();
+        let tag = |e: &mut Vec<u8>, ty: u32, n: usize| {
+            e.extend_from_slice(&ty.to_le_bytes());
+            e.extend_from_slice(&(n as u32).to_le_bytes());
+        };
+        tag(&mut e, 6, 8); // array flags
+        e.extend_from_slice(&6u32.to_le_bytes()); // mxDOUBLE_CLASS
+        e.extend_from_slice(&0u32.to_le_bytes());
+        tag(&mut e, 5, 8); // dimensions
+        e.extend_from_slice(&(data.len() as i32).to_le_bytes());
+        e.extend_from_slice(&1i32.to_le_bytes());
+        tag(&mut e, 1, name.len());
+        e.extend_from_slice(name.as_bytes());
+        pad(&mut e);
+        tag(&mut e, 9, 8 * data.len());
+        for x in data {
+            e.extend_from_slice(&x.to_le_bytes());
+        }
+        pad(&mut e);
+        b.extend_from_slice(&14u32.to_le_bytes());
+        b.extend_from_slice(&(e.len() as u32).to_le_bytes());
+        b.extend_from_slice(&e);
+    }
+    b
+}
+
+#[test]
+fn bad_mat_input() {
+    let junk = tmp("junk.mat");
+    std::fs::write(&junk, "this is not a MATLAB file").unwrap();
+    fails(
+        &["diagnose", junk.to_str().unwrap()],
+        &["junk.mat", "not a readable MATLAB v5 file"],
+    );
+    let n = 500;
+    let t: Vec<f64> = (0..n).map(|i| i as f64 * 1e-3).collect();
+    let x: Vec<f64> = t.iter().map(|t| 1e-3 * (3.0 * t).sin()).collect();
+    let u: Vec<f64> = t.iter().map(|t| (3.0 * t).cos()).collect();
+    // Missing `qm`.
+    let p = tmp("noqm.mat");
+    std::fs::write(
+        &p,
+        mat_file(&[("t", t.clone()), ("vir", u.clone()), ("gtau", vec![2.0])]),
+    )
+    .unwrap();
+    fails(&["fit", p.to_str().unwrap()], &["noqm.mat", "`qm` missing"]);
+    // Lengths differ.
+    let p = tmp("len.mat");
+    std::fs::write(
+        &p,
+        mat_file(&[
+            ("t", t.clone()),
+            ("qm", x[..400].to_vec()),
+            ("vir", u.clone()),
+            ("gtau", vec![2.0]),
+        ]),
+    )
+    .unwrap();
+    fails(
+        &["fit", p.to_str().unwrap()],
+        &["len.mat", "`qm` has 400 elements"],
+    );
+    // NaN inside.
+    let mut xn = x.clone();
+    xn[123] = f64::NAN;
+    let p = tmp("nan.mat");
+    std::fs::write(
+        &p,
+        mat_file(&[
+            ("t", t.clone()),
+            ("qm", xn),
+            ("vir", u.clone()),
+            ("gtau", vec![2.0]),
+        ]),
+    )
+    .unwrap();
+    fails(
+        &["fit", p.to_str().unwrap()],
+        &["nan.mat", "`qm`, element 124", "not finite"],
+    );
+    // A well-formed file is read (u = gtau·vir) and fitted.
+    let p = tmp("ok.mat");
+    std::fs::write(
+        &p,
+        mat_file(&[("t", t), ("qm", x), ("vir", u), ("gtau", vec![2.0])]),
+    )
+    .unwrap();
+    let rec = breakaway_lab::data::load(&p).unwrap();
+    assert_eq!(rec.len(), n);
+    assert!((rec.u[0] - 2.0).abs() < 1e-12);
+}
+
+#[test]
+fn static_curve_indy7_joint1() {
+    let f = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../shared/data/indy7/joint1_steady_state.csv"
+    );
+    if !std::path::Path::new(f).exists() {
+        println!("note: {f} not found; skipped");
+        return;
+    }
+    let j = ok(&["static-curve", f, "--json"]);
+    let v: serde_json::Value = serde_json::from_str(&j).unwrap();
+    let c = v["curves"].as_array().unwrap();
+    assert_eq!(c.len(), 2);
+    for c in c {
+        assert!(c["rms"].as_f64().unwrap() < 4.0);
+        assert!(c["fs"].as_f64().unwrap() >= c["fc"].as_f64().unwrap());
+    }
+}
+
+/// The EMPS benchmark record (real data): `diagnose` names viscous friction
+/// and an offset, and the fitted mass is within 2 % of the published one.
+#[test]
+fn emps_real_data() {
+    let f = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../shared/data/emps/DATA_EMPS.mat"
+    );
+    if !std::path::Path::new(f).exists() {
+        println!("note: {f} not found; skipped");
+        return;
+    }
+    let rep = tmp("emps.json");
+    ok(&["diagnose", f, "--json", rep.to_str().unwrap()]);
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&rep).unwrap()).unwrap();
+    let added: Vec<&str> = v["effects_added"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| e.as_str().unwrap())
+        .collect();
+    assert!(
+        added.contains(&"viscous") && added.contains(&"offset"),
+        "{added:?}"
+    );
+    let mass = v["model"]["mass"].as_f64().unwrap();
+    assert!((mass - 95.1089).abs() < 0.02 * 95.1089, "mass {mass}");
+    assert!(v["rms_after"].as_f64().unwrap() < 0.5 * v["rms_before"].as_f64().unwrap());
+}
+
+/// Hardening battery: malformed inputs of every kind give one `error:` line
+/// naming the file, a non-zero exit, no panic, and leave the file as it was.
+#[test]
+fn malformed_input_battery() {
+    let good = good_csv(400);
+    let huge = good
+        .replacen("\n0,", "\n1e400,", 1)
+        .replace(",7\n", ",1e400\n");
+    let mut cases: Vec<(String, Vec<u8>, Vec<&str>)> = vec![
+        ("empty.csv".into(), Vec::new(), vec!["empty.csv"]),
+        (
+            "header_only.csv".into(),
+            b"t,u,x\n".to_vec(),
+            vec!["header_only.csv"],
+        ),
+        (
+            "comments_only.csv".into(),
+            b"# nothing\n# here\n".to_vec(),
+            vec!["comments_only.csv"],
+        ),
+        (
+            "semicolons.csv".into(),
+            good.replace(',', ";").into_bytes(),
+            vec!["semicolons.csv"],
+        ),
+        (
+            "tabs.csv".into(),
+            good.replace(',', "\t").into_bytes(),
+            vec!["tabs.csv"],
+        ),
+        ("huge.csv".into(), huge.into_bytes(), vec!["huge.csv"]),
+        (
+            "binary.csv".into(),
+            (0..=255u8).cycle().take(4096).collect(),
+            vec!["binary.csv"],
+        ),
+        (
+            "crlf_missing_x.csv".into(),
+            b"t,u\r\n0,1\r\n".to_vec(),
+            vec!["crlf_missing_x.csv", "`x`"],
+        ),
+    ];
+    // A MATLAB file cut short, at several places (header, tag, data).
+    let n = 500;
+    let t: Vec<f64> = (0..n).map(|i| i as f64 * 1e-3).collect();
+    let x: Vec<f64> = t.iter().map(|t| 1e-3 * (3.0 * t).sin()).collect();
+    let u: Vec<f64> = t.iter().map(|t| (3.0 * t).cos()).collect();
+    let mat = mat_file(&[("t", t), ("qm", x), ("vir", u), ("gtau", vec![2.0])]);
+    for cut in [10, 128, 140, mat.len() / 2, mat.len() - 3] {
+        cases.push((format!("cut{cut}.mat"), mat[..cut].to_vec(), vec![".mat"]));
+    }
+    // The real EMPS file, truncated.
+    let emps = std::fs::read(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../shared/data/emps/DATA_EMPS.mat"
+    ));
+    if let Ok(emps) = emps {
+        cases.push((
+            "emps_cut.mat".into(),
+            emps[..emps.len() / 3].to_vec(),
+            vec!["emps_cut.mat"],
+        ));
+    }
+    for (name, bytes, needles) in &cases {
+        let path = tmp(name);
+        std::fs::write(&path, bytes).unwrap();
+        let p = path.to_string_lossy().into_owned();
+        for command in ["fit", "diagnose"] {
+            fails(&[command, &p], needles);
+            assert_eq!(&std::fs::read(&path).unwrap(), bytes, "{name} was modified");
+        }
+    }
+}
