@@ -11,80 +11,9 @@ use std::sync::Mutex;
 use breakaway::{BreakAwayPredictor, Model, Params, Presliding, Variant};
 use breakaway_reference as reference;
 use proptest::prelude::*;
-use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
 
-/// A parameter set, drawn over the ranges a motion axis meets.
-fn params() -> impl Strategy<Value = Params> {
-    (
-        -1.0f32..2.0,                                                 // log10 Fc [N]
-        0.0f32..2.0,                                                  // Fs/Fc − 1
-        -4.0f32..-1.0,                                                // log10 V [m/s]
-        prop_oneof![Just(0.5f32), Just(1.0), Just(2.0), 0.3f32..3.0], // δ
-        prop_oneof![Just(0.0f32), 0.0f32..1.0],                       // σ·V/Fc
-        -6.0f32..-3.0,                                                // log10 z_max [m]
-        prop_oneof![Just(0u32), 0u32..40],                            // ε in counts (+½)
-    )
-        .prop_map(|(fc, rise, v, delta, sigma, z_max, eps)| {
-            let fc = 10f32.powf(fc);
-            let v_stribeck = 10f32.powf(v);
-            let z_max = 10f32.powf(z_max);
-            let count = z_max / 1000.0;
-            Params {
-                fc,
-                fs: fc * (1.0 + rise),
-                v_stribeck,
-                delta,
-                sigma: sigma * fc / v_stribeck,
-                z_max,
-                epsilon: if eps == 0 {
-                    0.0
-                } else {
-                    (eps as f32 + 0.5) * count
-                },
-            }
-        })
-}
-
-fn reference_model(p: &Params) -> reference::Model {
-    reference::Model {
-        mass: 1.0,
-        fc: p.fc as f64,
-        fs: p.fs as f64,
-        v_stribeck: p.v_stribeck as f64,
-        delta: p.delta as f64,
-        sigma: p.sigma as f64,
-        z_max: p.z_max as f64,
-        epsilon: p.epsilon as f64,
-        effects: reference::Effects::default(),
-    }
-}
-
-/// One segment of motion: travel in counts (signed), counts per sample,
-/// velocity estimate in units of V.
-type Segment = (i64, i64, f32);
-
-fn trajectory() -> impl Strategy<Value = Vec<Segment>> {
-    let segment = (
-        prop_oneof![1i64..300, 300i64..1500, 1500i64..6000], // within, near, beyond z_max (1000 counts)
-        any::<bool>(),
-        prop_oneof![Just(1i64), 1i64..8, 8i64..80],
-        prop_oneof![Just(0.0f32), 0.0f32..0.3, 0.3f32..5.0],
-    )
-        .prop_map(|(len, up, step, v)| (if up { len } else { -len }, step, v));
-    prop::collection::vec(segment, 4..40)
-}
-
-/// Largest friction error seen, in units of Fs, with its case.
-/// A runner with a fixed seed: the same cases on every run and machine.
-fn runner(cases: u32) -> TestRunner {
-    TestRunner::new_with_rng(
-        Config {
-            cases,
-            ..Config::default()
-        },
-        TestRng::deterministic_rng(RngAlgorithm::ChaCha),
-    )
-}
+mod common;
+use common::{params, reference_model, runner, samples, trajectory, Segment};
 
 static WORST_FRICTION: Mutex<(f64, String)> = Mutex::new((0.0, String::new()));
 static WORST_BREAKAWAY: Mutex<(f64, String)> = Mutex::new((0.0, String::new()));
@@ -96,36 +25,20 @@ fn record(slot: &Mutex<(f64, String)>, error: f64, case: impl FnOnce() -> String
     }
 }
 
-/// Drives both models along the trajectory with memory capacity `N` in the
-/// library (0: the reference rule); returns the largest |ΔF|/Fs.
+/// Drives the library (f32, counts of z_max/1000) and the reference along
+/// the trajectory; returns the largest |ΔF|/Fs.
 fn friction_error(p: &Params, segments: &[Segment]) -> f64 {
     let model = Model::<f32>::new(*p).unwrap();
-    let reference = reference_model(p);
+    let judge_model = reference_model(p);
     let count = p.z_max / 1000.0;
     let mut lib = Presliding::<i64>::new(0, count).unwrap();
     let mut judge = reference::Presliding::new(0.0);
-    let mut x = 0i64;
     let mut worst = 0.0f64;
-    for &(travel, step, v) in segments {
-        let target = x + travel;
-        let dir = travel.signum();
-        let v = dir as f32 * v * p.v_stribeck;
-        // A rest before each segment: the same position sampled twice.
-        let samples = std::iter::once(x).chain(std::iter::successors(Some(x), |&at| {
-            (at != target).then(|| {
-                if dir > 0 {
-                    (at + step).min(target)
-                } else {
-                    (at - step).max(target)
-                }
-            })
-        }));
-        for at in samples {
-            let f = lib.update(&model, at, v).unwrap();
-            let f_ref = judge.update(&reference, at as f64 * count as f64, v as f64);
-            worst = worst.max((f as f64 - f_ref).abs() / p.fs as f64);
-        }
-        x = target;
+    for (at, v) in samples(segments) {
+        let v = v * p.v_stribeck;
+        let f = lib.update(&model, at, v).unwrap();
+        let f_ref = judge.update(&judge_model, at as f64 * count as f64, v as f64);
+        worst = worst.max((f as f64 - f_ref).abs() / p.fs as f64);
     }
     worst
 }
@@ -134,7 +47,7 @@ fn friction_error(p: &Params, segments: &[Segment]) -> f64 {
 fn friction_matches_reference_within_1e_5_fs() {
     let mut runner = runner(400);
     runner
-        .run(&(params(), trajectory()), |(p, segments)| {
+        .run(&(params(0.3..3.0), trajectory(20.0)), |(p, segments)| {
             let error = friction_error(&p, &segments);
             record(&WORST_FRICTION, error, || format!("{p:?}"));
             prop_assert!(error <= 1e-5, "|ΔF| = {error:e}·Fs for {p:?}");
@@ -152,21 +65,25 @@ fn friction_matches_reference_within_1e_5_fs() {
 fn break_away_matches_reference_within_1e_4() {
     let mut runner = runner(400);
     let cases = (
-        params(),
+        params(0.3..3.0),
         -3.0f32..3.0,
         prop_oneof![Just(0.95f32), 0.5f32..0.99],
     );
     runner
         .run(&cases, |(p, log_k, w_b)| {
             let model = Model::<f32>::new(p).unwrap();
-            let reference = reference_model(&p);
+            let judge_model = reference_model(&p);
             let k = 10f32.powf(log_k) * p.fc;
             let predictor = BreakAwayPredictor::new(&model, w_b).unwrap();
             for variant in Variant::ALL {
                 let judge_variant = reference::Variant::parse(variant.name()).unwrap();
-                let want =
-                    reference::predict_break_away(&reference, judge_variant, k as f64, w_b as f64)
-                        .unwrap();
+                let want = reference::predict_break_away(
+                    &judge_model,
+                    judge_variant,
+                    k as f64,
+                    w_b as f64,
+                )
+                .unwrap();
                 let got = predictor.predict(&model, variant, k).unwrap();
                 let rel = |a: f32, b: f64| ((a as f64 - b) / b).abs();
                 let error = rel(got.f_ba, want.f_ba)

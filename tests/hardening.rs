@@ -5,6 +5,9 @@
 use breakaway::{Model, Params, Presliding, Scalar, Q16};
 use breakaway_reference as reference;
 
+mod common;
+use common::reference_model;
+
 fn params() -> Params {
     Params {
         fc: 1.0,
@@ -14,20 +17,6 @@ fn params() -> Params {
         sigma: 0.2,
         z_max: 1e-5,
         epsilon: 0.0,
-    }
-}
-
-fn reference_model(p: &Params) -> reference::Model {
-    reference::Model {
-        mass: 1.0,
-        fc: p.fc as f64,
-        fs: p.fs as f64,
-        v_stribeck: p.v_stribeck as f64,
-        delta: p.delta as f64,
-        sigma: p.sigma as f64,
-        z_max: p.z_max as f64,
-        epsilon: p.epsilon as f64,
-        effects: reference::Effects::default(),
     }
 }
 
