@@ -474,23 +474,7 @@ fn candidate_starts(p: &Prepared, m: &Model, effect: &str, r: &[f64]) -> Vec<Mod
                 })
             }));
         }
-        "dwell_stiction" => {
-            // v_rest is not fitted by least squares (t_d jumps with it):
-            // rests of 100, 50 and 25 samples without a count change (the
-            // 1/T velocity of crate::fit) are tried as starts.
-            let count_rate = p.resolution / p.dt;
-            for v_rest in [0.01 * count_rate, 0.02 * count_rate, 0.04 * count_rate] {
-                for gamma in [0.1, 0.5] {
-                    out.push(with(&|c| {
-                        c.effects.dwell_stiction = Some(DwellStiction {
-                            delta_fs: 0.2 * m.fc,
-                            gamma,
-                            v_rest,
-                        })
-                    }));
-                }
-            }
-        }
+        "dwell_stiction" => out.extend(dwell_starts(p, m, r)),
         "frictional_lag" => {
             // Lag and the Stribeck shape trade off (a base model fitted
             // without lag bends V, δ to mimic it), so the shape restarts too.
@@ -555,6 +539,136 @@ fn candidate_starts(p: &Prepared, m: &Model, effect: &str, r: &[f64]) -> Vec<Mod
     }
     out.retain(|c| c.validate().is_ok());
     out
+}
+
+/// Starting models for `dwell_stiction`: a grid over the rest threshold
+/// `v_rest` and γ, each with ΔFs and the stiction level Fs from a linear
+/// regression of the residual on their signatures (the break-away peaks
+/// after rests of different length: Fs moves all of them, ΔFs in
+/// proportion to `t_d/(t_d + γ)`); the best grid points by the cost drop.
+///
+/// `v_rest` is not fitted by least squares (t_d jumps with it). The grid
+/// holds the encoder's rest (no count change for 50 samples, the 1/T
+/// velocity of [`crate::fit`]) and fractions of the Stribeck velocity,
+/// which also count the slow presliding creep before a break-away as rest.
+fn dwell_starts(p: &Prepared, m: &Model, r: &[f64]) -> Vec<Model> {
+    let count_rate = p.resolution / p.dt;
+    let mut v_rests = vec![0.02 * count_rate];
+    for f in [0.02, 0.05, 0.15] {
+        let v = f * m.v_stribeck;
+        if v > 0.03 * count_rate {
+            v_rests.push(v);
+        }
+    }
+    let stribeck = fit::has_effect(m, "stribeck");
+    let train: Vec<usize> = p.valid().filter(|&i| !p.held_out[i]).collect();
+    let f0 = p.friction(m);
+    let h = 0.1 * m.fc;
+    let mut m_fs = m.clone();
+    m_fs.fs += h;
+    let d_fs: Vec<f64> = p
+        .friction(&m_fs)
+        .iter()
+        .zip(&f0)
+        .map(|(a, b)| (a - b) / h)
+        .collect();
+    let col_fs: Vec<f64> = train
+        .iter()
+        .map(|&i| p.weight[i].sqrt() * p.filter_at(&d_fs, i))
+        .collect();
+    let b: Vec<f64> = train.iter().map(|&i| p.weight[i].sqrt() * r[i]).collect();
+    let mut scored: Vec<(f64, Model)> = Vec::new();
+    for &v_rest in &v_rests {
+        for gamma in [0.1, 0.3, 1.0] {
+            let mut c = m.clone();
+            c.effects.dwell_stiction = Some(DwellStiction {
+                delta_fs: h,
+                gamma,
+                v_rest,
+            });
+            let d_dw: Vec<f64> = p
+                .friction(&c)
+                .iter()
+                .zip(&f0)
+                .map(|(a, b)| (a - b) / h)
+                .collect();
+            let col_dw: Vec<f64> = train
+                .iter()
+                .map(|&i| p.weight[i].sqrt() * p.filter_at(&d_dw, i))
+                .collect();
+            // r = W*(u − F) − m·a: a friction change dF lowers r by W*dF.
+            let cols = if stribeck {
+                vec![col_dw.clone(), col_fs.clone()]
+            } else {
+                vec![col_dw.clone()]
+            };
+            let Some(coef) = lstsq(&cols, &b) else {
+                continue;
+            };
+            let (dfs, dfs_level) = (coef[0], coef.get(1).copied().unwrap_or(0.0));
+            let gain: f64 = col_dw
+                .iter()
+                .zip(&col_fs)
+                .zip(&b)
+                .map(|((x, y), b)| {
+                    let e = b - dfs * x - dfs_level * y;
+                    b * b - e * e
+                })
+                .sum();
+            let mut c = m.clone();
+            if stribeck {
+                c.fs = (m.fs + dfs_level).max(m.fc * 1.001);
+            }
+            c.effects.dwell_stiction = Some(DwellStiction {
+                delta_fs: dfs.clamp(0.02 * m.fc, 2.0 * m.fc),
+                gamma,
+                v_rest,
+            });
+            scored.push((if dfs > 0.0 { gain } else { f64::MIN }, c));
+        }
+    }
+    scored.sort_by(|a, b| b.0.total_cmp(&a.0));
+    scored.into_iter().take(4).map(|(_, c)| c).collect()
+}
+
+/// Shortest rest counted by [`dwell_spread`] [s]: the data-side rest at a
+/// slow reversal through zero lasts up to about 60 ms at high encoder noise.
+pub const MIN_DWELL_REST: f64 = 0.1;
+
+/// Least spread of the dwell factor `t_d/(t_d + γ)` over the rests of a
+/// record (see [`dwell_spread`]) for a `dwell_stiction` candidate to count.
+/// In the test matrix the identified dwell terms spread 0.27–0.36, the
+/// spurious ones (γ of 30–50 ms, fitting "after a rest" against "after a
+/// reversal") 0.05–0.07.
+pub const MIN_DWELL_SPREAD: f64 = 0.15;
+
+/// Spread (max − min) of `t_d/(t_d + γ)` of `m`'s dwell term over the
+/// rests of at least [`MIN_DWELL_REST`] that end in motion (data-side rest: `|v̂| ≤
+/// v_rest`); 0 without the effect or with fewer than two such rests.
+pub fn dwell_spread(p: &Prepared, m: &Model) -> f64 {
+    let Some(dw) = m.effects.dwell_stiction else {
+        return 0.0;
+    };
+    let mut start: Option<f64> = Some(p.t[0]);
+    let (mut lo, mut hi, mut n) = (f64::INFINITY, f64::NEG_INFINITY, 0);
+    for i in 0..p.len() {
+        if p.v[i].abs() <= dw.v_rest {
+            start.get_or_insert(p.t[i]);
+        } else if let Some(s) = start.take() {
+            let td = p.t[i] - s;
+            if td >= MIN_DWELL_REST {
+                let f = td / (td + dw.gamma);
+                lo = lo.min(f);
+                hi = hi.max(f);
+                n += 1;
+            }
+        }
+    }
+    if n >= 2 {
+        hi - lo
+    } else {
+        0.0
+    }
 }
 
 /// `m` without the catalogue effect `name`.
@@ -880,6 +994,13 @@ pub fn diagnose(
             );
             let fitted = fit_multistart(&p, &starts, &mut |s| show(&format!("{label} ({s})")));
             if !fit::has_effect(&fitted, name) {
+                continue;
+            }
+            // Dwell *time* stiction must make the break-away depend on the
+            // rest length; a γ far below every rest of the record only
+            // separates "after a rest" from "after a reversal" (the
+            // look-alike of MODEL.md §4's rate dependence).
+            if *name == "dwell_stiction" && dwell_spread(&p, &fitted) < MIN_DWELL_SPREAD {
                 continue;
             }
             let (c_rms, _) = held_rms(&p, &fitted);
