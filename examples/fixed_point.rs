@@ -26,14 +26,6 @@ const COUNT: f32 = 1e-8;
 const DT: f32 = 1e-3;
 const SAMPLES: i32 = 600;
 
-/// Position in counts at sample `n`: as `presliding_loop`, in integers.
-fn trajectory(n: i32) -> i32 {
-    let t = n as f32 * DT;
-    let tau = 2.0 * core::f32::consts::PI;
-    let x = 1600.0 * libm::sinf(tau * 0.8 * t) + 300.0 * libm::sinf(tau * 5.84 * t);
-    libm::roundf(x) as i32
-}
-
 #[entry]
 fn main() -> ! {
     let Ok(model) = Model::<Fx>::new(common::FIG5) else {
@@ -51,7 +43,7 @@ fn main() -> ! {
     };
     let mut last = 0;
     for n in 0..SAMPLES {
-        let count = trajectory(n);
+        let count = common::reversal_trajectory(n);
         let v = Fx::saturating_from_int(count - last) * per_count;
         last = count;
         match axis.update(&model, count, v) {

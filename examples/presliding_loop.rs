@@ -24,15 +24,6 @@ const COUNT: f32 = 1e-8;
 const DT: f32 = 1e-3;
 const SAMPLES: i32 = 1200;
 
-/// Position in counts at sample `n`: a 1.6 z_max stroke with 0.3 z_max
-/// ripples at 7.3 times the frequency.
-fn trajectory(n: i32) -> i64 {
-    let t = n as f32 * DT;
-    let tau = 2.0 * core::f32::consts::PI;
-    let x = 1600.0 * libm::sinf(tau * 0.8 * t) + 300.0 * libm::sinf(tau * 5.84 * t);
-    libm::roundf(x) as i64
-}
-
 #[entry]
 fn main() -> ! {
     let Ok(model) = Model::<f32>::new(common::FIG5) else {
@@ -46,7 +37,7 @@ fn main() -> ! {
     };
     let mut last = 0;
     for n in 0..SAMPLES {
-        let count = trajectory(n);
+        let count = i64::from(common::reversal_trajectory(n));
         let v = (count - last) as f32 * COUNT / DT;
         last = count;
         match (

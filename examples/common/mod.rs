@@ -19,6 +19,18 @@ pub const FIG5: breakaway::Params = breakaway::Params {
     epsilon: 0.0,
 };
 
+/// Position in encoder counts at sample `n` (1 ms period) of the reversal
+/// trajectory of `presliding_loop` and `fixed_point`: a 1.6·z_max stroke
+/// (z_max = 1000 counts of 10 nm) with 0.3·z_max ripples at 7.3 times the
+/// frequency, so that minor loops form inside presliding.
+#[allow(dead_code)]
+pub fn reversal_trajectory(n: i32) -> i32 {
+    let t = n as f32 * 1e-3;
+    let tau = 2.0 * core::f32::consts::PI;
+    let x = 1600.0 * libm::sinf(tau * 0.8 * t) + 300.0 * libm::sinf(tau * 5.84 * t);
+    libm::roundf(x) as i32
+}
+
 /// Ends the run: QEMU exits with status 0.
 pub fn exit_success() -> ! {
     debug::exit(debug::EXIT_SUCCESS);

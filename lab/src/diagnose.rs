@@ -251,9 +251,11 @@ fn quantile(v: &mut [f64], q: f64) -> f64 {
     v[((v.len() - 1) as f64 * q).round() as usize]
 }
 
-/// Linear least squares `min |A·c − b|` with columns `cols`.
+/// Linear least squares `min |A·c − b|` with columns `cols` (normal
+/// equations, Gauss–Jordan with partial pivoting); `None` when singular or
+/// not finite. Also used by `static_curve`.
 #[allow(clippy::needless_range_loop)] // dense Gauss–Jordan on a small matrix
-fn lstsq(cols: &[Vec<f64>], b: &[f64]) -> Option<Vec<f64>> {
+pub(crate) fn lstsq(cols: &[Vec<f64>], b: &[f64]) -> Option<Vec<f64>> {
     let n = cols.len();
     let mut a = vec![vec![0.0; n + 1]; n];
     for i in 0..n {

@@ -133,35 +133,6 @@ pub fn read(path: &Path) -> Result<Vec<Point>, Error> {
     Ok(pts)
 }
 
-/// Least squares of `|τ|` on columns; `None` if singular.
-#[allow(clippy::needless_range_loop)] // dense Gauss–Jordan
-fn linear(cols: &[Vec<f64>], y: &[f64]) -> Option<Vec<f64>> {
-    let n = cols.len();
-    let mut a = vec![vec![0.0; n + 1]; n];
-    for i in 0..n {
-        for j in 0..n {
-            a[i][j] = cols[i].iter().zip(&cols[j]).map(|(p, q)| p * q).sum();
-        }
-        a[i][n] = cols[i].iter().zip(y).map(|(p, q)| p * q).sum();
-    }
-    for c in 0..n {
-        let piv = (c..n).max_by(|&i, &j| a[i][c].abs().total_cmp(&a[j][c].abs()))?;
-        if a[piv][c].abs() < 1e-300 {
-            return None;
-        }
-        a.swap(c, piv);
-        for r in 0..n {
-            if r != c {
-                let f = a[r][c] / a[c][c];
-                for k in c..=n {
-                    a[r][k] -= f * a[c][k];
-                }
-            }
-        }
-    }
-    Some((0..n).map(|i| a[i][n] / a[i][i]).collect())
-}
-
 fn fit_direction(pts: &[Point], direction: i8) -> Option<Curve> {
     let sel: Vec<&Point> = pts
         .iter()
@@ -183,7 +154,7 @@ fn fit_direction(pts: &[Point], direction: i8) -> Option<Curve> {
     let solve = |v_s: f64, delta: f64| -> Option<Curve> {
         let e: Vec<f64> = s.iter().map(|x| (-(x / v_s).powf(delta)).exp()).collect();
         let c_fc: Vec<f64> = e.iter().map(|e| 1.0 - e).collect();
-        let c = linear(&[c_fc, e, s.clone()], &y)?;
+        let c = crate::diagnose::lstsq(&[c_fc, e, s.clone()], &y)?;
         let (fc, fs, sigma) = (c[0], c[1], c[2]);
         if !(fc > 0.0 && fs >= fc && sigma >= 0.0) {
             return None;
@@ -231,7 +202,7 @@ fn fit_direction(pts: &[Point], direction: i8) -> Option<Curve> {
     }
     best.or_else(|| {
         // Without Stribeck: |τ| = Fc + σ·|v|.
-        let c = linear(&[vec![1.0; s.len()], s.clone()], &y)?;
+        let c = crate::diagnose::lstsq(&[vec![1.0; s.len()], s.clone()], &y)?;
         let mut curve = Curve {
             direction,
             n: s.len(),
