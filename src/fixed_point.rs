@@ -110,22 +110,82 @@ impl<const K: usize> Sub for Q16<K> {
 
 impl<const K: usize> Mul for Q16<K> {
     type Output = Self;
-    /// The 64-bit product rounded to nearest and saturated: one `smull`
-    /// and a few instructions on ARMv7-M.
+    /// The product rounded to nearest and saturated.
     #[inline(always)]
     fn mul(self, rhs: Self) -> Self {
-        // |product| ≤ 2⁶², so neither step can overflow i64.
-        let product = i64::from(self.to_bits()).wrapping_mul(i64::from(rhs.to_bits()));
-        let rounded = product.wrapping_add(1 << 15) >> 16;
-        let bits = if rounded > i64::from(i32::MAX) {
-            i32::MAX
-        } else if rounded < i64::from(i32::MIN) {
-            i32::MIN
-        } else {
-            rounded as i32
-        };
-        Self::from_bits(bits)
+        #[cfg(not(breakaway_armv6m))]
+        let rounded = mul_wide(self.to_bits(), rhs.to_bits());
+        #[cfg(breakaway_armv6m)]
+        let rounded = mul_split(self.to_bits(), rhs.to_bits());
+        Self::from_bits(saturate_i32(rounded))
     }
+}
+
+/// (a·b + 2¹⁵) >> 16 through one 64-bit product: a single `smull` on
+/// ARMv7-M. |a·b| ≤ 2⁶², so neither step can overflow.
+#[inline(always)]
+#[cfg_attr(breakaway_armv6m, allow(dead_code))]
+fn mul_wide(a: i32, b: i32) -> i64 {
+    i64::from(a)
+        .wrapping_mul(i64::from(b))
+        .wrapping_add(1 << 15)
+        >> 16
+}
+
+/// (a·b + 2¹⁵) >> 16 from four 32-bit products, for ARMv6-M, which has no
+/// 32 × 32 → 64 multiply (the 64-bit product would be a library call).
+/// With a = a_h·2¹⁶ + a_l (a_l unsigned 16 bits), likewise b, the result is
+/// a_h·b_h·2¹⁶ + a_h·b_l + a_l·b_h + ⌊(a_l·b_l + 2¹⁵)/2¹⁶⌋ exactly; each
+/// product fits 32 bits (|a_h·b_l| < 2³¹, a_l·b_l + 2¹⁵ < 2³²).
+#[inline(always)]
+#[cfg_attr(not(breakaway_armv6m), allow(dead_code))]
+fn mul_split(a: i32, b: i32) -> i64 {
+    let (ah, al) = (a >> 16, a & 0xffff);
+    let (bh, bl) = (b >> 16, b & 0xffff);
+    let high = i64::from(ah.wrapping_mul(bh)) << 16;
+    let middle = i64::from(ah.wrapping_mul(bl)).wrapping_add(i64::from(al.wrapping_mul(bh)));
+    let low = i64::from((al as u32).wrapping_mul(bl as u32).wrapping_add(1 << 15) >> 16);
+    high.wrapping_add(middle).wrapping_add(low)
+}
+
+#[inline(always)]
+fn saturate_i32(x: i64) -> i32 {
+    if x > i64::from(i32::MAX) {
+        i32::MAX
+    } else if x < i64::from(i32::MIN) {
+        i32::MIN
+    } else {
+        x as i32
+    }
+}
+
+/// ⌊log2 r⌋ for r > 0: the `clz` instruction on ARMv7-M; a five-step
+/// binary search on ARMv6-M, which has none (the library call costs twice as
+/// much).
+#[inline(always)]
+fn floor_log2(r: u32) -> u32 {
+    #[cfg(not(breakaway_armv6m))]
+    {
+        31u32.wrapping_sub(r.leading_zeros())
+    }
+    #[cfg(breakaway_armv6m)]
+    {
+        floor_log2_search(r)
+    }
+}
+
+/// ⌊log2 r⌋ for r > 0 by binary search over the bit positions.
+#[inline(always)]
+#[cfg_attr(not(breakaway_armv6m), allow(dead_code))]
+fn floor_log2_search(r: u32) -> u32 {
+    let (mut x, mut e) = (r, 0u32);
+    for shift in [16u32, 8, 4, 2, 1] {
+        if x >> shift != 0 {
+            x >>= shift;
+            e |= shift;
+        }
+    }
+    e
 }
 
 impl<const K: usize> Div for Q16<K> {
@@ -280,9 +340,9 @@ impl<const K: usize, const E: usize> OctaveTable<K, E> {
         if r == 0 {
             return self.zero;
         }
-        // r ≠ 0, so leading_zeros ≤ 31: 2ᵉ ≤ r < 2ᵉ⁺¹. The shifts and
-        // differences below stay within [0, 32) by construction.
-        let e = 31u32.wrapping_sub(r.leading_zeros());
+        // r ≠ 0: 2ᵉ ≤ r < 2ᵉ⁺¹. The shifts and differences below stay
+        // within [0, 32) by construction.
+        let e = floor_log2(r);
         if e as usize >= E {
             return self.end;
         }
@@ -343,5 +403,54 @@ impl<const K: usize> Curves<Q16<K>> for TableCurves<K> {
             return Q16::ZERO;
         }
         Q16::from_bits(SHAPE.lookup(bits as u32))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The ARMv6-M multiply equals the 64-bit one on random and extreme
+    /// operands (it only runs on the M0; here it is checked on the host).
+    #[test]
+    fn split_multiply_matches_wide_multiply() {
+        let mut x: u64 = 0x2545_f491_4f6c_dd1d;
+        let mut next = || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            x as i32
+        };
+        let extremes = [
+            i32::MIN,
+            i32::MIN + 1,
+            -65536,
+            -65535,
+            -1,
+            0,
+            1,
+            65535,
+            65536,
+            i32::MAX,
+        ];
+        for &a in &extremes {
+            for &b in &extremes {
+                assert_eq!(mul_split(a, b), mul_wide(a, b), "{a} × {b}");
+            }
+        }
+        for _ in 0..1_000_000 {
+            let (a, b) = (next(), next() >> (next() & 31));
+            assert_eq!(mul_split(a, b), mul_wide(a, b), "{a} × {b}");
+        }
+    }
+
+    #[test]
+    fn floor_log2_of_every_bit_position() {
+        for e in 0..32u32 {
+            for r in [1u32 << e, (1u32 << e) | ((1u32 << e) - 1)] {
+                assert_eq!(floor_log2(r), e);
+                assert_eq!(floor_log2_search(r), e);
+            }
+        }
     }
 }
