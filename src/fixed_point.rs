@@ -25,7 +25,7 @@
 //! for velocities, [`Model::position_scale`](crate::Model::position_scale)
 //! for the encoder scale, multiply forces by Fs. Parameters whose scaled values
 //! do not fit are rejected at construction with
-//! [`ParamError::OutOfRange`](crate::ParamError::OutOfRange) naming the
+//! [`ParamError::OutOfRange`] naming the
 //! parameter: σ·V/Fs and ε/z_max·256 must be below 32768, Fc/Fs above 2⁻¹⁶,
 //! and the encoder count must lie between z_max/2¹⁶·… and z_max·128 (a scale
 //! of 256·count/z_max in (2⁻¹⁶, 32768)). Samples outside the ranges saturate:

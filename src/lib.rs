@@ -31,6 +31,9 @@
 #![no_std]
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
+// Units are written in brackets in the docs ([N], [s], [m/s]), which rustdoc
+// would otherwise try to resolve as links.
+#![allow(rustdoc::broken_intra_doc_links)]
 // No panic path on any input: no unwrap/expect/panic, no indexing that can
 // go out of bounds, no integer arithmetic that can overflow unchecked.
 #![cfg_attr(

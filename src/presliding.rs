@@ -142,8 +142,9 @@ impl Presliding<f32, f32, 0> {
 
 impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
     /// An idle state at `start`, with positions in units of
-    /// `metres_per_unit` metres (for encoder counts: the metres per count;
-    /// for positions in metres: 1).
+    /// `metres_per_unit` model length units: for `f32` models, metres (the
+    /// metres per encoder count, or 1 for positions in metres); for fixed
+    /// point, the value of [`Model::position_scale`](crate::Model::position_scale).
     pub fn new(start: P, metres_per_unit: T) -> Result<Self, ScaleError> {
         if !(metres_per_unit.is_finite() && metres_per_unit > T::ZERO) {
             return Err(ScaleError);
@@ -174,7 +175,8 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
     }
 
     /// Feeds one sample: the position `position` and a velocity estimate
-    /// `velocity` [m/s]; returns the friction force F = H + σ·v [N].
+    /// `velocity`; returns the friction force F = H + σ·v (m/s and N for
+    /// `f32`; model units for fixed point).
     ///
     /// A NaN or infinite sample is rejected with an error and leaves the state
     /// untouched. For finite samples the result is finite and |H| never

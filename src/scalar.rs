@@ -4,9 +4,10 @@
 //! supplies plain arithmetic through the `core::ops` traits and, through its
 //! associated [`Curves`] type, the two non-polynomial functions of the model:
 //! the Stribeck curve S(v) (MODEL.md §2) and the presliding shape
-//! g(w) = w·(1 − ln w) (MODEL.md §3). For `f32` these are evaluated through
-//! `libm`; a fixed-point type can supply table-based curves instead and reuse
-//! the state machine and the predictor unchanged.
+//! g(w) = w·(1 − ln w) (MODEL.md §3). For `f32` these are evaluated with the
+//! single-precision kernels of [`fastmath`](crate::fastmath); the fixed-point
+//! type [`Q16`](crate::Q16) supplies table-based curves and reuses the state
+//! machine and the predictor unchanged.
 
 // Arithmetic here is on the generic number type `T`, whose operators are
 // total by the `Scalar` contract (IEEE `f32`; saturating `Q16`): no panic, no

@@ -234,6 +234,10 @@ fn test() -> Result<(), String> {
             "warnings",
         ]))?;
     }
+    // The library's documentation builds without a warning.
+    run(cargo()
+        .args(["doc", "-p", "breakaway", "--no-deps"])
+        .env("RUSTDOCFLAGS", "-D warnings"))?;
     run(cargo().args(["test", "--workspace"]))?;
     // On-target checks under QEMU against the host f64 reference.
     for line in checks::all()? {
