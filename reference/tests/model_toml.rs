@@ -1,6 +1,8 @@
 //! Model files (MODEL.md §7): exact round trip, strict reading, validation.
 
+mod common;
 use breakaway_reference::*;
+use common::paper;
 
 /// splitmix64: a small deterministic generator for the tests.
 struct Rng(u64);
@@ -154,20 +156,6 @@ fn bits(m: &Model) -> Vec<Option<u64>> {
     opt(e.frictional_lag.map(|l| vec![l.tau_l]), 1);
     opt(e.drift.map(|d| vec![d.beta]), 1);
     v
-}
-
-fn paper() -> Model {
-    Model {
-        mass: 1.0,
-        fc: 1.0,
-        fs: 1.5,
-        v_stribeck: 1e-3,
-        delta: 1.0,
-        sigma: 0.0,
-        z_max: 1e-5,
-        epsilon: 0.0,
-        effects: Effects::default(),
-    }
 }
 
 #[test]

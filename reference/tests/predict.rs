@@ -1,20 +1,8 @@
 //! The quasi-static break-away predictor (MODEL.md §4).
 
+mod common;
 use breakaway_reference::*;
-
-fn paper() -> Model {
-    Model {
-        mass: 1.0,
-        fc: 1.0,
-        fs: 1.5,
-        v_stribeck: 1e-3,
-        delta: 1.0,
-        sigma: 0.0,
-        z_max: 1e-5,
-        epsilon: 0.0,
-        effects: Effects::default(),
-    }
-}
+use common::paper;
 
 fn rel(a: f64, b: f64) -> f64 {
     (a - b).abs() / b.abs()
