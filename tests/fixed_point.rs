@@ -16,7 +16,7 @@ use breakaway_reference as reference;
 use proptest::prelude::*;
 
 mod common;
-use common::{params, reference_model, runner, samples, trajectory, Segment};
+use common::{paper, params, reference_model, runner, samples, trajectory, Segment};
 
 type Fx = Q16<16>;
 
@@ -109,18 +109,6 @@ fn fixed_break_away_matches_reference_within_1e_3() {
         "fixed point: worst F_ba relative error = {:.3e} ({})",
         worst[1].0, worst[1].1
     );
-}
-
-fn paper() -> Params {
-    Params {
-        fc: 1.0,
-        fs: 1.5,
-        v_stribeck: 1e-3,
-        delta: 1.0,
-        sigma: 0.0,
-        z_max: 1e-5,
-        epsilon: 0.0,
-    }
 }
 
 #[test]

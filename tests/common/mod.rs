@@ -10,6 +10,20 @@ use breakaway_reference as reference;
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
 
+/// The paper's Fig. 5 setting (MODEL.md §4): Fc = 1 N, Fs = 1.5 N, σ = 0,
+/// z_max = 10 µm, with V = 1 mm/s and δ = 1.
+pub fn paper() -> Params {
+    Params {
+        fc: 1.0,
+        fs: 1.5,
+        v_stribeck: 1e-3,
+        delta: 1.0,
+        sigma: 0.0,
+        z_max: 1e-5,
+        epsilon: 0.0,
+    }
+}
+
 /// The library's parameters as a reference model (m = 1 kg, no effects).
 pub fn reference_model(p: &Params) -> reference::Model {
     reference::Model {
