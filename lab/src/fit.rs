@@ -88,6 +88,25 @@ pub struct Prepared {
     pub v_rest: f64,
     /// Sampling interval [s] (median).
     pub dt: f64,
+    /// Still samples: the position did not change over the whole window
+    /// `i−k … i+k`. There the force balance gives the friction itself
+    /// (`F = ū`, `â = 0`), while the presliding state at a quantised position
+    /// is not observable; the model's memory is re-anchored at the measured
+    /// force ([`Prepared::friction`]) and the sample carries no weight.
+    pub still: Vec<bool>,
+    /// Measured force at still samples [N]: mean of `ū` over the last three
+    /// samples of the still run (0 elsewhere).
+    pub u_still: Vec<f64>,
+    /// Class weight of each sample (speed/direction classes, see the module
+    /// doc), before the error-in-variables factor.
+    pub class_weight: Vec<f64>,
+    /// Variance of the residual of a correct model at each sample [N²]
+    /// (noise and resolution, [`Prepared::set_error_weights`]); `σ0²` until
+    /// then.
+    pub var: Vec<f64>,
+    /// Force-noise level of the residual in fast sliding [N] (0 until
+    /// [`Prepared::set_error_weights`]).
+    pub sigma0: f64,
 }
 
 /// Quadratic Savitzky–Golay coefficients of the first and second derivative
@@ -146,6 +165,10 @@ impl Prepared {
             let (i0, i1) = if i + 1 < n { (i, i + 1) } else { (i - 1, i) };
             v[i] = (rec.x[i1] - rec.x[i0]) / (rec.t[i1] - rec.t[i0]);
         }
+        let mut u_mid = rec.u.clone();
+        for i in 1..n {
+            u_mid[i] = 0.5 * (rec.u[i - 1] + rec.u[i]);
+        }
         let (q, n_rest) = Self::resolution_of(&rec.x);
         // Where the position has not changed over the whole window, the
         // velocity is the encoder's "1/T" estimate: one count over the time
@@ -170,12 +193,26 @@ impl Prepared {
         if let Some(mv) = &rec.v {
             v.clone_from(mv);
         }
-        let mut u_mid = rec.u.clone();
-        for i in 1..n {
-            u_mid[i] = 0.5 * (rec.u[i - 1] + rec.u[i]);
-        }
         let resolution = q;
         let v_rest = REST_COUNT_RATE * q / dt;
+        let mut still = vec![false; n];
+        let mut u_still = vec![0.0; n];
+        let mut run = 0usize; // samples since the position last changed
+        for i in 0..n {
+            run = if i > 0 && rec.x[i] == rec.x[i - 1] {
+                run + 1
+            } else {
+                0
+            };
+            // Position constant on i−k … i+k.
+            let ahead = (i + 1..=(i + k).min(n - 1)).all(|j| rec.x[j] == rec.x[i]);
+            if run >= k && i + k < n && ahead {
+                still[i] = true;
+                let lo = i.saturating_sub(2).max(i - run.min(i));
+                let span = &u_mid[lo..=i];
+                u_still[i] = span.iter().sum::<f64>() / span.len() as f64;
+            }
+        }
         let mut p = Prepared {
             t: rec.t.clone(),
             x: rec.x.clone(),
@@ -189,6 +226,11 @@ impl Prepared {
             resolution,
             v_rest,
             dt,
+            still,
+            u_still,
+            class_weight: vec![0.0; n],
+            var: vec![0.0; n],
+            sigma0: 0.0,
         };
         p.set_split();
         p.set_weights();
@@ -248,57 +290,176 @@ impl Prepared {
 
     fn set_weights(&mut self) {
         let mut count = [0usize; 64];
-        for i in self.valid() {
+        for i in self.valid().filter(|&i| !self.still[i]) {
             count[self.class(i)] += 1;
         }
         let mut total = 0.0;
         for i in self.valid() {
-            let c = count[self.class(i)] as f64;
-            self.weight[i] = 1.0 / c.sqrt();
+            self.weight[i] = if self.still[i] {
+                0.0
+            } else {
+                1.0 / (count[self.class(i)] as f64).sqrt()
+            };
             total += self.weight[i];
         }
-        let nv = self.valid().len() as f64;
+        let nv = self.valid().filter(|&i| !self.still[i]).count() as f64;
         if total > 0.0 {
             for w in &mut self.weight {
                 *w *= nv / total;
             }
         }
+        self.class_weight.clone_from(&self.weight);
     }
 
-    /// Error-in-variables weights for model `m` with residual `r` (of `m`):
-    /// the residual of sample `i` has variance
-    /// `σ0² + (q²/12)·(Σ_j W_j·|∂F/∂x|_{i+j})²` — the force noise `σ0`
-    /// (estimated from differences of the residual `2k+1` samples apart in
-    /// sliding, which slowly varying effects do not reach) plus the
-    /// encoder's quantisation `q` propagated through the presliding
-    /// stiffness `∂H/∂x = (d·S − H_r)·(−ln w)/z_max` (huge right after a
-    /// turning point). Each sample's class weight is multiplied by
-    /// `σ0²/var_i` (≤ 1). Returns `σ0`.
+    /// Error-in-variables weights for model `m` with residual `r` (of `m`).
+    /// The residual of a correct model at moving sample `i` has variance
+    ///
+    /// ```text
+    /// var_i = σ0² + (q²/12)·(Σ_j W_j·|∂F/∂x|_{i+j})² + σ_v²·(Σ_j W_j·|∂F/∂v|_{i+j})²
+    /// ```
+    ///
+    /// * `σ0` [N]: force noise and the quantisation error of `m·â`, from
+    ///   differences of the residual `2k+1` samples apart in fast sliding
+    ///   (which slowly varying effects do not reach; a robust median);
+    /// * `q` [m] the encoder count, propagated through the presliding
+    ///   stiffness `∂H/∂x = (d·S − H_r)·(−ln w)/z_max` (huge right after a
+    ///   turning point);
+    /// * `σ_v = q·‖c1‖/(√12·h)` [m/s], the quantisation error of the
+    ///   Savitzky–Golay velocity, propagated through the slope of the
+    ///   Stribeck curve `g(w)·|S'(v)|`.
+    ///
+    /// Each sample's class weight is multiplied by `σ0²/var_i` (≤ 1); the
+    /// variances are kept for [`Prepared::floor`]. Called once per record
+    /// (from the start model), so every figure compared afterwards uses the
+    /// same weights. Returns `σ0`.
     pub fn set_error_weights(&mut self, m: &Model, r: &[f64]) -> f64 {
         let lag = 2 * self.k + 1;
-        let mut speeds: Vec<f64> = self.valid().map(|i| self.v[i].abs()).collect();
+        let q2 = self.resolution * self.resolution / 12.0;
+        // Quantisation error of `m·â`: present wherever a second difference
+        // of the counts falls inside the window (an exactly constant count
+        // rate has none).
+        let c2_norm = self.c2_norm();
+        let var_acc = m.mass * m.mass * q2 * (c2_norm / (self.dt * self.dt)).powi(2);
+        let n = self.len();
+        let mut curved = vec![false; n];
+        for i in 1..n.saturating_sub(1) {
+            if self.x[i + 1] - 2.0 * self.x[i] + self.x[i - 1] != 0.0 {
+                let lo = i.saturating_sub(self.k + 1);
+                let hi = (i + self.k + 1).min(n - 1);
+                for c in &mut curved[lo..=hi] {
+                    *c = true;
+                }
+            }
+        }
+        let mut speeds: Vec<f64> = self
+            .valid()
+            .filter(|&i| !self.still[i])
+            .map(|i| self.v[i].abs())
+            .collect();
         speeds.sort_by(f64::total_cmp);
         let fast = speeds.get(speeds.len() / 2).copied().unwrap_or(0.0);
-        let mut d: Vec<f64> = self
-            .valid()
-            .filter(|&i| i + lag < self.len() - self.k)
-            .filter(|&i| self.v[i].abs() >= fast && self.v[i + lag].abs() >= fast)
-            .map(|i| (r[i] - r[i + lag]).abs())
-            .collect();
-        d.sort_by(f64::total_cmp);
-        let sigma0 = match d.get(d.len() / 2) {
-            Some(&med) if med > 0.0 => med / (0.6745 * std::f64::consts::SQRT_2),
-            _ => 1e-3 * m.fc,
+        let pairs = |straight: bool| -> Vec<f64> {
+            let mut d: Vec<f64> = self
+                .valid()
+                .filter(|&i| i + lag < n - self.k)
+                .filter(|&i| self.v[i].abs() >= fast && self.v[i + lag].abs() >= fast)
+                .filter(|&i| !self.still[i] && !self.still[i + lag])
+                .filter(|&i| !straight || !(curved[i] || curved[i + lag]))
+                .map(|i| (r[i] - r[i + lag]).abs())
+                .collect();
+            d.sort_by(f64::total_cmp);
+            d
         };
-        let sens = self.position_sensitivity(m);
-        let q2 = self.resolution * self.resolution / 12.0;
+        let robust = |d: &[f64]| {
+            d.get(d.len() / 2)
+                .map(|med| med / (0.6745 * std::f64::consts::SQRT_2))
+        };
+        // The force noise: from windows without count curvature when the
+        // record has enough of them, else from all fast windows less the
+        // quantisation part.
+        let straight = pairs(true);
+        let sigma0 = match robust(&straight) {
+            Some(s) if straight.len() >= 200 && s > 0.0 => s,
+            _ => match robust(&pairs(false)) {
+                Some(s) if s > 0.0 => (s * s - var_acc).max(0.01 * s * s).sqrt(),
+                _ => 1e-3 * m.fc,
+            },
+        };
+        let (sx, sv) = self.sensitivities(m);
+        let c1_norm = 1.0 / ((self.k * (self.k + 1) * (2 * self.k + 1)) as f64 / 3.0).sqrt();
+        let sigma_v2 = q2 * (c1_norm / self.dt).powi(2);
         self.set_weights();
+        self.sigma0 = sigma0;
         for i in self.valid() {
-            let s = self.filter_at(&sens, i).abs();
-            let var = sigma0 * sigma0 + q2 * s * s;
+            let a = self.filter_at(&sx, i).abs();
+            let b = self.filter_at(&sv, i).abs();
+            let acc = if curved[i] { var_acc } else { 0.0 };
+            let var = sigma0 * sigma0 + acc + q2 * a * a + sigma_v2 * b * b;
+            self.var[i] = var;
             self.weight[i] *= sigma0 * sigma0 / var;
         }
         sigma0
+    }
+
+    /// `‖c2‖`, the norm of the Savitzky–Golay second-derivative
+    /// coefficients (per sample²).
+    fn c2_norm(&self) -> f64 {
+        let kf = self.k as f64;
+        let mu2 = kf * (kf + 1.0) / 3.0;
+        let d: f64 = (0..=2 * self.k)
+            .map(|i| (i as f64 - kf).powi(2) - mu2)
+            .map(|e| e * e)
+            .sum();
+        2.0 / d.sqrt()
+    }
+
+    /// The part of the weighted RMS [N] that noise and resolution explain:
+    /// `√(Σ c_i·w_i·var_i / Σ c_i·w_i)` over the samples selected by
+    /// `held_out` (`c` class weight, `w = σ0²/var` the error factor), what
+    /// a correct model would show. 0 before [`Prepared::set_error_weights`].
+    pub fn floor(&self, held_out: Option<bool>) -> f64 {
+        let (mut s, mut w) = (0.0, 0.0);
+        for i in self.valid() {
+            if held_out.is_none_or(|h| self.held_out[i] == h) {
+                s += self.weight[i] * self.var[i];
+                w += self.weight[i];
+            }
+        }
+        if w > 0.0 {
+            (s / w).sqrt()
+        } else {
+            0.0
+        }
+    }
+
+    /// Per-sample `|∂H/∂x|` [N/m] (0 in gross sliding; `w` at least half an
+    /// encoder count from the turning point) and `|∂F/∂v|` [N·s/m] (the
+    /// Stribeck slope times `g(w)`, plus σ) of model `m` along the motion.
+    pub fn sensitivities(&self, m: &Model) -> (Vec<f64>, Vec<f64>) {
+        let sx = self.position_sensitivity(m);
+        let mut fr = Friction::new(m, self.t[0], self.x[0], self.v[0]);
+        let sv = (0..self.len())
+            .map(|i| {
+                fr.update(m, self.t[i], self.x[i], self.v[i]);
+                let pre = fr.presliding();
+                let g = if pre.direction() == 0 || m.z_max <= 0.0 {
+                    1.0
+                } else {
+                    let w = pre.travel(m.z_max, self.x[i]).max(1e-12);
+                    w * (1.0 - w.ln())
+                };
+                let s = self.v[i].abs() / m.v_stribeck;
+                let slope = if s > 0.0 {
+                    (m.fs - m.fc) * m.delta / m.v_stribeck
+                        * s.powf(m.delta - 1.0)
+                        * (-s.powf(m.delta)).exp()
+                } else {
+                    0.0
+                };
+                g * slope.min(1e12) + m.sigma
+            })
+            .collect();
+        (sx, sv)
     }
 
     /// `|∂H/∂x|` [N/m] of the presliding branch at every sample (0 in gross
@@ -320,14 +481,25 @@ impl Prepared {
                 }
                 let w = w.max(w_min);
                 let amp = if pre.direction() == 0 {
-                    m.fs
+                    (m.fs - fr.dry()).abs().max((m.fs + fr.dry()).abs())
                 } else {
                     let g = w * (1.0 - w.ln());
                     ((fr.dry() - pre.dry_at_turning_point()) / g).abs()
                 };
+                if self.still[i] {
+                    self.anchor(&mut fr, m, i);
+                }
                 amp * (-w.ln()) / m.z_max
             })
             .collect()
+    }
+
+    /// Re-anchors `fr` (just updated with sample `i`, a still sample) at the
+    /// measured force: dry friction `ū − (F − H)`.
+    fn anchor(&self, fr: &mut Friction, m: &Model, i: usize) {
+        let additive = fr.force() - fr.dry();
+        let _ = m;
+        fr.anchor(self.x[i], self.u_still[i] - additive);
     }
 
     /// Applies the force kernel to a per-sample series `s` at sample `i`.
@@ -340,10 +512,20 @@ impl Prepared {
     }
 
     /// The friction `F` of `m` along the measured motion, every sample.
+    /// At still samples the memory is re-anchored at the measured force
+    /// (see [`Prepared::still`]), so `F = ū` there.
     pub fn friction(&self, m: &Model) -> Vec<f64> {
         let mut fr = Friction::new(m, self.t[0], self.x[0], self.v[0]);
         (0..self.len())
-            .map(|i| fr.update(m, self.t[i], self.x[i], self.v[i]))
+            .map(|i| {
+                let f = fr.update(m, self.t[i], self.x[i], self.v[i]);
+                if self.still[i] {
+                    self.anchor(&mut fr, m, i);
+                    fr.force()
+                } else {
+                    f
+                }
+            })
             .collect()
     }
 
@@ -381,6 +563,13 @@ impl Prepared {
             .filter(|&i| self.held_out[i] == held_out)
             .count()
     }
+}
+
+/// The model error [N] in a weighted RMS `rms` [N] whose noise-and-
+/// resolution part is `floor` [N] ([`Prepared::floor`]):
+/// `√max(rms² − floor², 0)`.
+pub fn model_error(rms: f64, floor: f64) -> f64 {
+    (rms * rms - floor * floor).max(0.0).sqrt()
 }
 
 /// A free parameter of the fit.

@@ -481,21 +481,27 @@ pub fn run(cmd: Command, out: &mut dyn Write) -> Result<(), Error> {
             p.set_error_weights(&m, &r0);
             let r = p.residual(&m);
             let all = p.rms(&r, None);
+            let floor = p.floor(None);
+            let gap = fit::model_error(all, floor);
             let labels = diagnose::regimes(&p, &m);
             let stats = diagnose::regime_stats(&p, &r, &labels);
             let text = if json {
                 let v = serde_json::json!({
                     "metric": "weighted RMS [N] of the force residual along the measured motion over all samples (see diagnose)",
                     "rms": all,
+                    "floor": floor,
+                    "model_error": gap,
                     "regimes": stats.iter().map(|s| serde_json::json!({"regime": s.regime, "n": s.n, "rms": s.rms})).collect::<Vec<_>>(),
                 });
                 format!("{}\n", serde_json::to_string_pretty(&v).unwrap_or_default())
             } else {
                 let mut s = format!(
-                    "{} with {}: rms {} N (weighted, all samples)\n",
+                    "{} with {}: rms {} N (weighted, all samples); noise and resolution {} N; model error {} N\n",
                     data.display(),
                     model.display(),
-                    crate::format::short(all, 4)
+                    crate::format::short(all, 4),
+                    crate::format::short(floor, 4),
+                    crate::format::short(gap, 4)
                 );
                 let rows: Vec<Vec<String>> = stats
                     .iter()

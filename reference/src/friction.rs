@@ -126,6 +126,15 @@ impl Friction {
         f
     }
 
+    /// Re-anchors the presliding memory at rest: idle at position `x` [m]
+    /// with dry friction `h` [N] (see [`Presliding::anchor`]); the other
+    /// memories (dwell time, lagged velocity) are kept. `F` becomes `h` plus
+    /// the additive terms of the last update.
+    pub fn anchor(&mut self, x: f64, h: f64) {
+        self.f += h - self.pre.dry();
+        self.pre.anchor(x, h);
+    }
+
     /// Friction force `F` [N] returned by the last update (0 before any).
     pub fn force(&self) -> f64 {
         self.f

@@ -3,7 +3,8 @@
 //!
 //! Positions are absolute `f64` [m]. Per sample `(x, v)`:
 //!
-//! * **idle** (`d = 0`, `H_r = 0`, `x_r` = start position): `H = 0` while
+//! * **idle** (`d = 0`, `H_r = 0`, `x_r` = start position; or anchored at a
+//!   measured force by [`Presliding::anchor`]): `H = H_r` while
 //!   `x == x_r`; the first sample with `x != x_r` sets `d = sgn(x − x_r)`
 //!   (no deadband for this first motion) and starts the branch.
 //! * **new extremum** (`d·(x − x_ext) > 0`): `x_ext ← x`, `H` on the current
@@ -54,6 +55,25 @@ impl Presliding {
         let s = stribeck(m, v);
         let h = self.step(x, m.z_max, m.epsilon, |_| s);
         h + m.sigma * v
+    }
+
+    /// Idle at a measured dry friction: `d = 0`, `x_r = x` [m],
+    /// `H_r = H = h` [N]. The next sample with a different position starts a
+    /// branch from `(x, h)` as after a turning point.
+    ///
+    /// Not part of MODEL.md §3 (whose idle state has `H_r = 0`): a
+    /// measurement-side re-anchoring. While an axis is held at rest the
+    /// force balance gives its friction exactly (`F = u`), but the presliding
+    /// state at a quantised position is not observable (sub-count
+    /// reversals), so the discrepancy workflow re-anchors the memory at the
+    /// measured force instead of guessing it.
+    pub fn anchor(&mut self, x: f64, h: f64) {
+        self.d = 0;
+        self.x_r = x;
+        self.x_ext = x;
+        self.h_r = h;
+        self.h_ext = h;
+        self.h = h;
     }
 
     /// Dry (hysteretic) friction `H` [N] after the last update (0 when idle).
@@ -118,7 +138,7 @@ impl Presliding {
             } else if x < self.x_r {
                 -1
             } else {
-                self.h = 0.0;
+                self.h = self.h_r;
                 return self.h;
             };
             self.d = d;

@@ -1,0 +1,51 @@
+//! Development aid: the residual of a fixed model along a record, as CSV
+//! (`t,x,v,u,still,weight,var,r`), for looking at what the metric sees.
+//!
+//! `cargo run -p breakaway-lab --release --example dump_residual -- DATA MODEL.toml [K]`
+
+use breakaway_lab::data;
+use breakaway_lab::fit::Prepared;
+use breakaway_reference::Model;
+use std::path::Path;
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let (Some(d), Some(m)) = (args.first(), args.get(1)) else {
+        eprintln!("usage: dump_residual DATA MODEL.toml [K]");
+        std::process::exit(2);
+    };
+    let k = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(5);
+    let rec = match data::load(Path::new(d)) {
+        Ok(r) => r,
+        Err(e) => {
+            eprintln!("error: {e}");
+            std::process::exit(1);
+        }
+    };
+    let model = match Model::load(Path::new(m)) {
+        Ok(m) => m,
+        Err(e) => {
+            eprintln!("error: {e}");
+            std::process::exit(1);
+        }
+    };
+    let mut p = Prepared::new(&rec, k);
+    let r0 = p.residual(&model);
+    let s0 = p.set_error_weights(&model, &r0);
+    eprintln!("sigma0 {s0}, floor {}", p.floor(None));
+    let r = p.residual(&model);
+    println!("t,x,v,u,still,weight,var,r");
+    for i in 0..p.len() {
+        println!(
+            "{},{},{},{},{},{},{},{}",
+            p.t[i],
+            p.x[i],
+            p.v[i],
+            p.u_mid[i],
+            u8::from(p.still[i]),
+            p.weight[i],
+            p.var[i],
+            r[i]
+        );
+    }
+}
