@@ -23,8 +23,8 @@ use crate::data::Record;
 use crate::fit::{self, FitOptions, Param, Prepared};
 use crate::progress::Progress;
 use crate::reference::{
-    Asymmetry, Drift, DwellStiction, Effects, Friction, FrictionalLag, Model, Offset,
-    PositionRipple,
+    Asymmetry, Drift, DwellStiction, Effects, Friction, FrictionalLag, Model, NonlinearViscous,
+    Offset, PositionRipple,
 };
 use std::f64::consts::PI;
 
@@ -55,6 +55,7 @@ pub const ACCEPT_GAIN_PER_PARAM: f64 = 0.045;
 pub fn required_gain(effect: &str) -> f64 {
     let p = match effect {
         "position_ripple" | "dwell_stiction" | "stribeck" => 3.0,
+        "nonlinear_viscous" => 2.0,
         _ => 1.0,
     };
     ACCEPT_GAIN.max(p * ACCEPT_GAIN_PER_PARAM)
@@ -86,7 +87,8 @@ impl Default for Options {
 pub struct Candidate {
     /// Catalogue name.
     pub effect: String,
-    /// Held-out RMS after adding and refitting [N].
+    /// Weighted held-out RMS after adding and refitting [N] (noise and
+    /// resolution included; the same weights for every candidate).
     pub rms: f64,
     /// BIC change on the held-out blocks (negative is better).
     pub score: f64,
@@ -99,9 +101,9 @@ pub struct Candidate {
 pub struct Step {
     /// Catalogue name.
     pub effect: String,
-    /// Held-out RMS before [N].
+    /// Model error before [N] (held-out, above the floor).
     pub rms_before: f64,
-    /// Held-out RMS after [N].
+    /// Model error after [N].
     pub rms_after: f64,
     /// BIC change (negative).
     pub score: f64,
@@ -153,10 +155,26 @@ pub struct Report {
     pub given: Option<f64>,
     /// Model before the first step (refitted start).
     pub start: Model,
-    /// Held-out RMS of `start`.
+    /// Model error of `start` on the held-out blocks [N]:
+    /// [`fit::model_error`] of its weighted RMS and [`Report::floor`].
     pub rms_before: f64,
-    /// Held-out RMS of the final model.
+    /// Model error of the final model on the held-out blocks [N].
     pub rms_after: f64,
+    /// Weighted held-out RMS of `start` [N] (noise and resolution included).
+    pub raw_before: f64,
+    /// Weighted held-out RMS of the final model [N].
+    pub raw_after: f64,
+    /// The part of a weighted held-out RMS that noise and resolution explain
+    /// [N] ([`Prepared::floor`]): what a correct model would show.
+    pub floor: f64,
+    /// Force-noise level [N] of the residual ([`Prepared::sigma0`]).
+    pub sigma0: f64,
+    /// Still samples (position constant over the window; the friction is
+    /// the measured force there, not a prediction) and all valid samples.
+    pub still: (usize, usize),
+    /// Parts of the start structure dropped as not identifiable, with the
+    /// reason (e.g. `stribeck`: V at its bound).
+    pub dropped: Vec<(String, String)>,
     /// Accepted steps.
     pub steps: Vec<Step>,
     /// The last round's candidates (none accepted).
@@ -183,7 +201,7 @@ pub struct Report {
 }
 
 /// What the residual is, for reports.
-pub const METRIC: &str = "held-out weighted RMS [N] of the force residual along the measured motion, r = W*(u - F(t, x, v_hat)) - m*a_hat (Savitzky-Golay v_hat, a_hat; W the matching force kernel); samples weighted by speed/direction class, time blocks 2, 5, 8 of 10 held out";
+pub const METRIC: &str = "model error [N]: sqrt(rms^2 - floor^2), rms the held-out weighted RMS of the force residual along the measured motion, r = W*(u - F(t, x, v_hat)) - m*a_hat (Savitzky-Golay v_hat, a_hat; W the matching force kernel), floor the part that force noise and encoder resolution explain; still samples (position constant over the window) are the measured force, re-anchor the presliding memory and carry no weight; weights (speed/direction class x noise/resolution variance) fixed from the start model; time blocks 2, 5, 8 of 10 held out";
 
 fn held_rms(p: &Prepared, m: &Model) -> (f64, Vec<f64>) {
     let r = p.residual(m);
@@ -454,6 +472,16 @@ fn candidate_starts(p: &Prepared, m: &Model, effect: &str, r: &[f64]) -> Vec<Mod
                 .max(1e-3 * m.fc / p.v.iter().fold(1e-12f64, |a, v| a.max(v.abs())));
             out.push(with(&|c| c.sigma = s));
         }
+        "nonlinear_viscous" => {
+            let v_max = p.v.iter().fold(1e-12f64, |a, v| a.max(v.abs()));
+            for n in [0.3, 0.6, 1.5, 2.0] {
+                let s: Vec<f64> = p.v.iter().map(|v| v.signum() * v.abs().powf(n)).collect();
+                let sigma_n = regress(p, r, &s).max(1e-3 * m.fc / v_max.powf(n));
+                out.push(with(&|c| {
+                    c.effects.nonlinear_viscous = Some(NonlinearViscous { sigma_n, n })
+                }));
+            }
+        }
         "offset" => {
             let one = vec![1.0; p.len()];
             let f0 = regress(p, r, &one);
@@ -497,12 +525,14 @@ fn candidate_starts(p: &Prepared, m: &Model, effect: &str, r: &[f64]) -> Vec<Mod
                 out.push(with(&|c| {
                     c.effects.frictional_lag = Some(FrictionalLag { tau_l })
                 }));
-                out.push(with(&|c| {
-                    c.effects.frictional_lag = Some(FrictionalLag { tau_l });
-                    c.delta = 2.0;
-                    c.v_stribeck = v_lo;
-                    c.fs = c.fs.clamp(1.1 * c.fc, 2.0 * c.fc);
-                }));
+                if fit::has_effect(m, "stribeck") {
+                    out.push(with(&|c| {
+                        c.effects.frictional_lag = Some(FrictionalLag { tau_l });
+                        c.delta = 2.0;
+                        c.v_stribeck = v_lo;
+                        c.fs = c.fs.clamp(1.1 * c.fc, 2.0 * c.fc);
+                    }));
+                }
             }
         }
         "drift" => {
@@ -673,6 +703,103 @@ pub fn dwell_spread(p: &Prepared, m: &Model) -> f64 {
     }
 }
 
+/// Least relative rise of the held-out RMS for which a part of the base
+/// structure (`stribeck`, `presliding`) is kept: a part whose removal
+/// costs less than this is not supported by the record.
+pub const KEEP_GAIN: f64 = 0.01;
+
+/// Why the part `name` of `m` (a catalogue effect, `stribeck` or
+/// `presliding`) is degenerate — a parameter at a bound of its range or at
+/// a value the record cannot resolve — or `None`.
+pub fn degenerate(p: &Prepared, m: &Model, name: &str) -> Option<String> {
+    let near = |x: f64, bound: f64| (x / bound).ln().abs() < 0.02;
+    match name {
+        "stribeck" if fit::has_effect(m, name) => {
+            let v_max = p.valid().map(|i| p.v[i].abs()).fold(0.0, f64::max);
+            if m.v_stribeck < p.v_rest {
+                Some(format!(
+                    "V = {:.3e} m/s is below the slowest speed the encoder resolves ({:.3e} m/s)",
+                    m.v_stribeck, p.v_rest
+                ))
+            } else if m.v_stribeck > v_max {
+                Some(format!(
+                    "V = {:.3e} m/s is above every speed of the record",
+                    m.v_stribeck
+                ))
+            } else if near(m.delta, fit::DELTA_RANGE.0) || near(m.delta, fit::DELTA_RANGE.1) {
+                Some(format!("delta = {:.4} at a bound of its range", m.delta))
+            } else if m.fs - m.fc < 1e-3 * m.fc {
+                Some("Fs - Fc below 0.1 % of Fc".into())
+            } else {
+                None
+            }
+        }
+        "presliding" if fit::has_effect(m, name) => (m.z_max < 1.5 * p.resolution).then(|| {
+            format!(
+                "z_max = {:.3e} m is below 1.5 encoder counts ({:.3e} m)",
+                m.z_max, p.resolution
+            )
+        }),
+        "dwell_stiction" => m.effects.dwell_stiction.and_then(|d| {
+            (near(d.gamma, 5e-3) || near(d.gamma, 100.0))
+                .then(|| format!("gamma = {} s at a bound", d.gamma))
+        }),
+        "nonlinear_viscous" => m.effects.nonlinear_viscous.and_then(|nv| {
+            // n = 1 is `viscous` (MODEL.md §5 names it only for n ≠ 1).
+            if (nv.n - 1.0).abs() < 0.1 {
+                Some(format!("n = {:.3} is viscous", nv.n))
+            } else if near(nv.n, fit::NV_EXP_RANGE.0) || near(nv.n, fit::NV_EXP_RANGE.1) {
+                Some(format!("n = {:.3} at a bound of its range", nv.n))
+            } else {
+                None
+            }
+        }),
+        "frictional_lag" => m.effects.frictional_lag.and_then(|l| {
+            (near(l.tau_l, 1e-3) || near(l.tau_l, 100.0))
+                .then(|| format!("tau_l = {} s at a bound", l.tau_l))
+        }),
+        _ => None,
+    }
+}
+
+/// Drops the parts of the base structure that the record does not
+/// support: `stribeck` or `presliding` when a parameter of theirs is
+/// degenerate ([`degenerate`]), or (with `by_rms`, once the missing
+/// effects are in) when the model refitted without them is within
+/// [`KEEP_GAIN`] of the held-out RMS with them. Returns the simpler
+/// model and what was dropped, with the reason.
+fn simplify(
+    p: &Prepared,
+    mut m: Model,
+    by_rms: bool,
+    progress: &mut dyn FnMut(&str),
+) -> (Model, Vec<(String, String)>) {
+    let mut dropped = Vec::new();
+    for part in ["stribeck", "presliding"] {
+        if !fit::has_effect(&m, part) || (!by_rms && degenerate(p, &m, part).is_none()) {
+            continue;
+        }
+        progress(&format!("is {part} identifiable?"));
+        let without = remove_effect(&m, part, p);
+        let params = fit::params_of(&without);
+        let refit = fit::fit(p, &without, &params, &FitOptions::default(), &mut |_| {}).model;
+        let (with_rms, without_rms) = (held_rms(p, &m).0, held_rms(p, &refit).0);
+        let reason = degenerate(p, &m, part).or_else(|| {
+            (without_rms <= (1.0 + KEEP_GAIN) * with_rms).then(|| {
+                format!(
+                    "held-out rms {:.4e} N without it, {:.4e} N with it",
+                    without_rms, with_rms
+                )
+            })
+        });
+        if let Some(why) = reason {
+            dropped.push((part.to_string(), why));
+            m = refit;
+        }
+    }
+    (m, dropped)
+}
+
 /// `m` without the catalogue effect `name`.
 fn remove_effect(m: &Model, name: &str, p: &Prepared) -> Model {
     let mut c = m.clone();
@@ -685,18 +812,31 @@ fn remove_effect(m: &Model, name: &str, p: &Prepared) -> Model {
         "dwell_stiction" => e.dwell_stiction = None,
         "frictional_lag" => e.frictional_lag = None,
         "drift" => e.drift = None,
-        "stribeck" => c.fs = c.fc,
+        "nonlinear_viscous" => e.nonlinear_viscous = None,
+        "stribeck" => {
+            // Fs = Fc marks the absence (MODEL.md §7); V and δ then have no
+            // effect and are written as neutral, physical values.
+            c.fs = c.fc;
+            let mut speeds: Vec<f64> = p
+                .valid()
+                .map(|i| p.v[i].abs())
+                .filter(|s| *s > p.v_rest)
+                .collect();
+            let v = quantile(&mut speeds, 0.2);
+            c.v_stribeck = if v.is_finite() && v > 0.0 { v } else { 1e-3 };
+            c.delta = 1.0;
+        }
         "presliding" => c.z_max = 0.0,
         _ => {}
     }
-    let _ = p;
     c
 }
 
 /// The signal that localises each effect (for the report and the plot).
 pub fn signal_of(effect: &str) -> &'static str {
     match effect {
-        "viscous" | "offset" | "asymmetry" | "stribeck" | "frictional_lag" => "velocity",
+        "viscous" | "nonlinear_viscous" | "offset" | "asymmetry" | "stribeck"
+        | "frictional_lag" => "velocity",
         "position_ripple" => "position",
         "dwell_stiction" => "rest time before motion",
         "drift" => "time",
@@ -944,27 +1084,24 @@ pub fn diagnose(
 ) -> Report {
     let mut p = Prepared::new(rec, opts.half_width);
     let mut show = |s: &str| progress.show(s);
-    let (given, mut model) = match start {
-        Some(m) => {
-            let g = held_rms(&p, m).0;
-            show("refitting the given model");
-            let params = fit::params_of(m);
-            (
-                Some(g),
-                fit::fit(&p, m, &params, &FitOptions::default(), &mut |_| {}).model,
-            )
-        }
-        None => (None, initial_base(&p, &mut show)),
+    let mut model = match start {
+        Some(m) => m.clone(),
+        None => initial_base(&p, &mut show),
     };
-    // Error-in-variables weights from the start model, fixed from here on.
+    // Error-in-variables weights from the start model, fixed from here on:
+    // every figure compared below uses them.
     let r0 = p.residual(&model);
     p.set_error_weights(&model, &r0);
+    let floor = p.floor(Some(true));
+    let given = start.map(|m| fit::model_error(held_rms(&p, m).0, floor));
     show("refitting with error weights");
     let params = fit::params_of(&model);
     model = fit::fit(&p, &model, &params, &FitOptions::default(), &mut |_| {}).model;
+    let (simpler, mut dropped) = simplify(&p, model, false, &mut show);
+    model = simpler;
     let start_model = model.clone();
     let (mut rms, mut r) = held_rms(&p, &model);
-    let rms_before = rms;
+    let raw_before = rms;
     let residual_before = r.clone();
     let labels = regimes(&p, &model);
     let regimes_before = regime_stats(&p, &r, &labels);
@@ -979,6 +1116,7 @@ pub fn diagnose(
             .iter()
             .copied()
             .filter(|e| !fit::has_effect(&model, e) && allowed(e))
+            .filter(|e| !dropped.iter().any(|(d, _)| d == e))
             .collect();
         let mut cands = Vec::new();
         let n_cur = fit::params_of(&model).len();
@@ -1003,6 +1141,11 @@ pub fn diagnose(
             // separates "after a rest" from "after a reversal" (the
             // look-alike of MODEL.md §4's rate dependence).
             if *name == "dwell_stiction" && dwell_spread(&p, &fitted) < MIN_DWELL_SPREAD {
+                continue;
+            }
+            // A fit that ran to a bound of its parameters has not found
+            // the effect (or has found a simpler structure).
+            if degenerate(&p, &fitted, name).is_some() {
                 continue;
             }
             let (c_rms, _) = held_rms(&p, &fitted);
@@ -1031,8 +1174,8 @@ pub fn diagnose(
         let (new_rms, new_r) = held_rms(&p, &best.model);
         steps.push(Step {
             effect: best.effect.clone(),
-            rms_before: rms,
-            rms_after: new_rms,
+            rms_before: fit::model_error(rms, floor),
+            rms_after: fit::model_error(new_rms, floor),
             score: best.score,
             model: best.model.clone(),
             signal: sig,
@@ -1058,7 +1201,11 @@ pub fn diagnose(
             let refit = fit::fit(&p, &without, &params, &FitOptions::default(), &mut |_| {}).model;
             let (w_rms, w_r) = held_rms(&p, &refit);
             if w_rms * (1.0 - required_gain(&name)) <= rms {
-                pruned.push((name, w_rms, rms));
+                pruned.push((
+                    name,
+                    fit::model_error(w_rms, floor),
+                    fit::model_error(rms, floor),
+                ));
                 steps.remove(k);
                 model = refit;
                 rms = w_rms;
@@ -1068,7 +1215,14 @@ pub fn diagnose(
             }
         }
     }
+    let (simpler, more) = simplify(&p, model.clone(), true, &mut show);
+    if !more.is_empty() {
+        model = simpler;
+        (rms, r) = held_rms(&p, &model);
+        dropped.extend(more);
+    }
     progress.finish();
+    let still = p.valid().filter(|&i| p.still[i]).count();
     Report {
         pruned,
         n: p.len(),
@@ -1076,8 +1230,14 @@ pub fn diagnose(
         resolution: p.resolution,
         given,
         start: start_model,
-        rms_before,
-        rms_after: rms,
+        rms_before: fit::model_error(raw_before, floor),
+        rms_after: fit::model_error(rms, floor),
+        raw_before,
+        raw_after: rms,
+        floor,
+        sigma0: p.sigma0,
+        still: (still, p.valid().len()),
+        dropped,
         steps,
         last_round,
         regions,
@@ -1113,6 +1273,7 @@ fn effect_params_all(m: &Model) -> serde_json::Map<String, serde_json::Value> {
         "dwell_stiction",
         "frictional_lag",
         "drift",
+        "nonlinear_viscous",
     ] {
         if fit::has_effect(m, name) {
             map.insert(name.into(), effect_params(m, name));
@@ -1141,6 +1302,10 @@ pub fn effect_params(m: &Model, name: &str) -> serde_json::Value {
         ),
         "frictional_lag" => json!({"tau_l": e.frictional_lag.map(|l| l.tau_l)}),
         "drift" => json!({"beta": e.drift.map(|d| d.beta)}),
+        "nonlinear_viscous" => e.nonlinear_viscous.map_or(
+            json!({}),
+            |nv| json!({"sigma_n": nv.sigma_n, "n": nv.n}),
+        ),
         _ => json!({}),
     }
 }
@@ -1170,6 +1335,14 @@ pub fn report_json(rep: &Report) -> String {
         "rms_before": rep.rms_before,
         "rms_after": rep.rms_after,
         "rms_given": rep.given,
+        "rms_raw_before": rep.raw_before,
+        "rms_raw_after": rep.raw_after,
+        "floor": rep.floor,
+        "noise_std": rep.sigma0,
+        "floor_explains": if rep.raw_after > 0.0 { (rep.floor / rep.raw_after).powi(2).min(1.0) } else { 1.0 },
+        "still_samples": rep.still.0,
+        "valid_samples": rep.still.1,
+        "dropped": rep.dropped.iter().map(|(n, why)| json!({"part": n, "reason": why})).collect::<Vec<_>>(),
         "regions": rep.regions.iter().map(|r| json!({"regime": r.regime, "t_start": r.t_start, "t_end": r.t_end, "rms": r.rms})).collect::<Vec<_>>(),
         "regimes": rep.regimes.iter().map(|r| json!({"regime": r.regime, "n": r.n, "rms": r.rms})).collect::<Vec<_>>(),
         "signals": rep.signals.iter().map(|(n, f)| json!({"signal": n, "explained": f})).collect::<Vec<_>>(),
@@ -1205,17 +1378,28 @@ pub fn report_text(rep: &Report, source: &str) -> String {
         short(rep.resolution, 3)
     );
     let _ = writeln!(s, "residual: force along the measured motion (MODEL.md §8: compared locally), held-out time blocks 2, 5, 8 of 10");
+    let _ = writeln!(
+        s,
+        "measurement floor: {} N of the held-out rms is force noise (σ0 = {} N) and encoder resolution; {} of {} samples are still (friction = measured force, not scored); figures below are model error above that floor",
+        short(rep.floor, 3),
+        short(rep.sigma0, 3),
+        rep.still.0,
+        rep.still.1
+    );
+    for (part, why) in &rep.dropped {
+        let _ = writeln!(s, "not identifiable here, dropped: `{part}` ({why})");
+    }
     if let Some(g) = rep.given {
         let _ = writeln!(
             s,
-            "given model: held-out rms {} N as given, {} N refitted",
+            "given model: held-out model error {} N as given, {} N refitted",
             short(g, 4),
             short(rep.rms_before, 4)
         );
     } else {
         let _ = writeln!(
             s,
-            "start: base model (Coulomb + Stribeck + presliding) identified from the data, held-out rms {} N",
+            "start: base model (Coulomb + Stribeck + presliding) identified from the data, held-out model error {} N",
             short(rep.rms_before, 4)
         );
     }
@@ -1279,11 +1463,13 @@ pub fn report_text(rep: &Report, source: &str) -> String {
     } else {
         let _ = writeln!(
             s,
-            "done: no further candidate lowers the held-out rms by {:.0} %; gap {} N -> {} N ({})",
+            "done: no further candidate lowers the held-out rms by {:.0} %; gap {} N -> {} N ({}); the remaining rms {} N is {:.0} % noise and resolution",
             100.0 * ACCEPT_GAIN,
             short(rep.rms_before, 4),
             short(rep.rms_after, 4),
-            pct(rep.rms_before, rep.rms_after)
+            pct(rep.rms_before, rep.rms_after),
+            short(rep.raw_after, 3),
+            100.0 * (rep.floor / rep.raw_after.max(1e-300)).powi(2).min(1.0)
         );
     }
     for (n, without, with) in &rep.pruned {

@@ -42,7 +42,8 @@
 //! differences (one pass along the record each).
 
 use crate::reference::{
-    Asymmetry, Drift, DwellStiction, Friction, FrictionalLag, Model, Offset, PositionRipple,
+    Asymmetry, Drift, DwellStiction, Friction, FrictionalLag, Model, NonlinearViscous, Offset,
+    PositionRipple,
 };
 use std::f64::consts::PI;
 
@@ -607,11 +608,20 @@ pub enum Param {
     LagTau,
     /// `effects.drift.beta` [1/s], linear (scaled by the record length).
     DriftBeta,
+    /// `effects.nonlinear_viscous.sigma_n` [N·(s/m)^n], linear.
+    SigmaN,
+    /// `effects.nonlinear_viscous.n`, logistic onto [`NV_EXP_RANGE`].
+    NvExp,
 }
 
+/// Range of the fitted exponent `n` of `nonlinear_viscous` (MODEL.md §5:
+/// `0 < n <= 2`).
+pub const NV_EXP_RANGE: (f64, f64) = (0.05, 2.0);
+
 /// The catalogue names of MODEL.md §5 that a model may lack.
-pub const CATALOGUE: [&str; 9] = [
+pub const CATALOGUE: [&str; 10] = [
     "viscous",
+    "nonlinear_viscous",
     "offset",
     "asymmetry",
     "position_ripple",
@@ -633,6 +643,7 @@ pub fn has_effect(m: &Model, name: &str) -> bool {
         "dwell_stiction" => e.dwell_stiction.is_some(),
         "frictional_lag" => e.frictional_lag.is_some(),
         "drift" => e.drift.is_some(),
+        "nonlinear_viscous" => e.nonlinear_viscous.is_some(),
         "stribeck" => m.fs > m.fc,
         "presliding" => m.z_max > 0.0,
         _ => false,
@@ -679,6 +690,9 @@ pub fn params_of(m: &Model) -> Vec<Param> {
     if e.drift.is_some() {
         p.push(Param::DriftBeta);
     }
+    if e.nonlinear_viscous.is_some() {
+        p.extend([Param::SigmaN, Param::NvExp]);
+    }
     p
 }
 
@@ -722,6 +736,13 @@ fn get(m: &Model, p: Param, t_span: f64) -> f64 {
         Param::DwellGamma => dw.gamma.ln(),
         Param::LagTau => e.frictional_lag.map_or(0.0, |l| l.tau_l.ln()),
         Param::DriftBeta => e.drift.map_or(0.0, |d| d.beta) * t_span,
+        Param::SigmaN => e.nonlinear_viscous.map_or(0.0, |nv| nv.sigma_n),
+        Param::NvExp => {
+            let n = e.nonlinear_viscous.map_or(0.5, |nv| nv.n);
+            let u = ((n - NV_EXP_RANGE.0) / (NV_EXP_RANGE.1 - NV_EXP_RANGE.0))
+                .clamp(1e-6, 1.0 - 1e-6);
+            (u / (1.0 - u)).ln()
+        }
     }
 }
 
@@ -790,6 +811,19 @@ fn set(m: &mut Model, p: Param, th: f64, t_span: f64) {
             })
         }
         Param::DriftBeta => e.drift = Some(Drift { beta: th / t_span }),
+        Param::SigmaN | Param::NvExp => {
+            let mut nv = e.nonlinear_viscous.unwrap_or(NonlinearViscous {
+                sigma_n: 0.0,
+                n: 0.5,
+            });
+            if p == Param::SigmaN {
+                nv.sigma_n = th.max(0.0);
+            } else {
+                let u = 1.0 / (1.0 + (-th.clamp(-40.0, 40.0)).exp());
+                nv.n = NV_EXP_RANGE.0 + (NV_EXP_RANGE.1 - NV_EXP_RANGE.0) * u;
+            }
+            e.nonlinear_viscous = Some(nv);
+        }
     }
 }
 
@@ -890,6 +924,11 @@ fn analytic_column(p: &Prepared, m: &Model, par: Param, idx: &[usize]) -> Option
         Param::Mass => Some(idx.iter().map(|&i| -p.weight[i].sqrt() * p.a[i]).collect()),
         Param::Sigma => Some(col(&p.v)),
         Param::F0 => Some(col(&vec![1.0; p.len()])),
+        Param::SigmaN => {
+            let n = m.effects.nonlinear_viscous.map_or(0.5, |nv| nv.n);
+            let s: Vec<f64> = p.v.iter().map(|v| v.signum() * v.abs().powf(n)).collect();
+            Some(col(&s))
+        }
         Param::RippleC | Param::RippleS => {
             let lam = m.effects.position_ripple.map_or(1.0, |r| r.wavelength);
             let s: Vec<f64> =

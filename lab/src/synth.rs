@@ -25,16 +25,17 @@
 
 use crate::data::Record;
 use crate::reference::{
-    Asymmetry, Drift, DwellStiction, Effects, Friction, FrictionalLag, Model, Offset,
-    PositionRipple,
+    Asymmetry, Drift, DwellStiction, Effects, Friction, FrictionalLag, Model, NonlinearViscous,
+    Offset, PositionRipple,
 };
 use crate::Error;
 use std::f64::consts::PI;
 
 /// The effects `synth` can hide (the catalogue of MODEL.md §5 without
 /// `stribeck` and `presliding`, which the base model always has).
-pub const HIDEABLE: [&str; 7] = [
+pub const HIDEABLE: [&str; 8] = [
     "viscous",
+    "nonlinear_viscous",
     "offset",
     "asymmetry",
     "position_ripple",
@@ -227,6 +228,18 @@ pub fn truth_model(spec: &SynthSpec) -> Result<Model, Error> {
             "drift" => {
                 e.drift = Some(Drift {
                     beta: rng.sign() * rng.range(0.2, 0.3) / NOMINAL_SPAN,
+                })
+            }
+            "nonlinear_viscous" => {
+                // Concave or convex strengthening, never near n = 1.
+                let n = if rng.sign() > 0.0 {
+                    rng.range(0.4, 0.7)
+                } else {
+                    rng.range(1.4, 1.8)
+                };
+                e.nonlinear_viscous = Some(NonlinearViscous {
+                    sigma_n: rng.range(0.25, 0.4) * fc / 0.05f64.powf(n),
+                    n,
                 })
             }
             "stribeck" | "presliding" => {} // always in the base model

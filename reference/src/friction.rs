@@ -8,7 +8,7 @@
 //! Fs' = Fs·sc + ΔFs·t_d/(t_d + γ)
 //! S   = Fc' + (Fs' − Fc')·exp(−(|v_s|/V)^δ),  v_s = v_l with frictional_lag, else v
 //! H   = the §3 one-turning-point rule (crate::Presliding) with this S
-//! F   = H + σ·v + F0 + A·sin(2π·x/λ + φ)
+//! F   = H + σ·v + σ_n·sgn(v)·|v|^n + F0 + A·sin(2π·x/λ + φ)
 //! ```
 //!
 //! `d` is the branch direction after this sample's presliding update (so the
@@ -118,6 +118,9 @@ impl Friction {
         let mut f = h + m.sigma * v;
         if let Some(o) = &e.offset {
             f += o.f0;
+        }
+        if let Some(nv) = &e.nonlinear_viscous {
+            f += nv.sigma_n * v.signum() * v.abs().powf(nv.n);
         }
         if let Some(r) = &e.position_ripple {
             f += r.amplitude * (2.0 * PI * x / r.wavelength + r.phase).sin();

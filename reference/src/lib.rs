@@ -27,7 +27,8 @@ pub mod sim;
 pub use curves::{shape, steady_state, stribeck};
 pub use friction::Friction;
 pub use model::{
-    Asymmetry, Drift, DwellStiction, Effects, FrictionalLag, Model, ModelError, Offset,
+    Asymmetry, Drift, DwellStiction, Effects, FrictionalLag, Model, ModelError, NonlinearViscous,
+    Offset,
     PositionRipple,
 };
 pub use predict::{

@@ -55,6 +55,8 @@ pub struct Effects {
     pub frictional_lag: Option<FrictionalLag>,
     /// `drift`: `Fc`, `Fs` scaled by `1 + β·t`.
     pub drift: Option<Drift>,
+    /// `nonlinear_viscous`: `F += σ_n·sgn(v)·|v|^n`.
+    pub nonlinear_viscous: Option<NonlinearViscous>,
 }
 
 /// Effect `offset` (§5): a constant force added at rest and in motion alike.
@@ -106,6 +108,17 @@ pub struct FrictionalLag {
 pub struct Drift {
     /// `β` [1/s], finite.
     pub beta: f64,
+}
+
+/// Effect `nonlinear_viscous` (§5): `F += σ_n·sgn(v)·|v|^n`, velocity
+/// strengthening that is not proportional to speed (gear and seal friction);
+/// `n = 1` would be `viscous`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NonlinearViscous {
+    /// `σ_n` [N·(s/m)^n], `>= 0` (rotary: N·m·(s/rad)^n).
+    pub sigma_n: f64,
+    /// Exponent `n` [-], `0 < n <= 2`.
+    pub n: f64,
 }
 
 /// Error reading, validating or writing a model; names the offending key.
@@ -234,6 +247,20 @@ impl Model {
         if let Some(d) = &e.drift {
             check("effects.drift.beta", d.beta, Rule::Finite)?;
         }
+        if let Some(nv) = &e.nonlinear_viscous {
+            check(
+                "effects.nonlinear_viscous.sigma_n",
+                nv.sigma_n,
+                Rule::NonNegative,
+            )?;
+            check("effects.nonlinear_viscous.n", nv.n, Rule::Positive)?;
+            if nv.n > 2.0 {
+                return Err(ModelError::new(
+                    "effects.nonlinear_viscous.n",
+                    format!("must be in (0, 2], got {:?}", nv.n),
+                ));
+            }
+        }
         Ok(())
     }
 
@@ -306,6 +333,14 @@ impl Model {
                 });
                 r.finish()?;
             }
+            if let Some(t) = er.table("nonlinear_viscous")? {
+                let mut r = Reader::new("effects.nonlinear_viscous.", t);
+                model.effects.nonlinear_viscous = Some(NonlinearViscous {
+                    sigma_n: r.float("sigma_n")?,
+                    n: r.float("n")?,
+                });
+                r.finish()?;
+            }
             er.finish()?;
         }
         top.finish()?;
@@ -368,6 +403,11 @@ impl Model {
         if let Some(d) = &e.drift {
             s.push_str("\n[effects.drift]\n");
             kv(&mut s, "beta", d.beta, "[1/s]");
+        }
+        if let Some(nv) = &e.nonlinear_viscous {
+            s.push_str("\n[effects.nonlinear_viscous]\n");
+            kv(&mut s, "sigma_n", nv.sigma_n, "[N*(s/m)^n]");
+            kv(&mut s, "n", nv.n, "");
         }
         s
     }
