@@ -290,3 +290,63 @@ pub fn write_csv(path: &Path, rec: &Record, comments: &[String]) -> Result<(), E
     }
     std::fs::write(path, s).map_err(|e| err(path, format!("cannot write: {e}")))
 }
+
+/// Parses a steady-state record (MODEL.md §6): comma-separated, one header
+/// line with columns `v` [m/s or rad/s] and `u` [N or N·m] in any order
+/// (others ignored), `#` comments; one force reading per speed. Needs at
+/// least 5 points; every error names the line and column.
+pub fn parse_steady_csv(
+    text: &str,
+    path: &Path,
+) -> Result<Vec<crate::static_curve::Point>, Error> {
+    let mut lines = text
+        .lines()
+        .enumerate()
+        .map(|(i, l)| (i + 1, l.trim()))
+        .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'));
+    let Some((hline, header)) = lines.next() else {
+        return Err(err(path, "empty file: no header line (columns v, u)"));
+    };
+    let names: Vec<&str> = header.split(',').map(str::trim).collect();
+    let col = |name: &str| {
+        names.iter().position(|n| *n == name).ok_or_else(|| {
+            err(
+                path,
+                format!(
+                    "line {hline}: header lacks column `{name}` (a steady-state record needs v, u; found: {})",
+                    names.join(", ")
+                ),
+            )
+        })
+    };
+    let (iv, iu) = (col("v")?, col("u")?);
+    let mut pts = Vec::new();
+    for (ln, line) in lines {
+        let fields: Vec<&str> = line.split(',').map(str::trim).collect();
+        let get = |name: &str, i: usize| -> Result<f64, Error> {
+            let s = fields
+                .get(i)
+                .ok_or_else(|| err(path, format!("line {ln}: column `{name}` missing")))?;
+            s.parse::<f64>()
+                .ok()
+                .filter(|x| x.is_finite())
+                .ok_or_else(|| {
+                    err(
+                        path,
+                        format!("line {ln}: column `{name}`: `{s}` is not a finite number"),
+                    )
+                })
+        };
+        pts.push(crate::static_curve::Point {
+            v: get("v", iv)?,
+            tau: get("u", iu)?,
+        });
+    }
+    if pts.len() < 5 {
+        return Err(err(
+            path,
+            format!("too few points: {} (need at least 5)", pts.len()),
+        ));
+    }
+    Ok(pts)
+}

@@ -959,27 +959,84 @@ pub fn fit(
 ) -> FitResult {
     let t_span = (p.t[p.len() - 1] - p.t[0]).max(1e-9);
     let idx = train_indices(p);
-    let np = params.len();
-    let mut th = encode(m0, params, t_span);
-    let mut model = decode(m0, params, &th, t_span);
-    let (mut e, _) = train_vec(p, &model, &idx);
+    let th0 = encode(m0, params, t_span);
+    let problem = ModelProblem {
+        p,
+        m0,
+        params,
+        idx: &idx,
+        t_span,
+    };
+    let (th, cost, passes) = levenberg_marquardt(&problem, th0, opts, tick);
+    FitResult {
+        model: decode(m0, params, &th, t_span),
+        cost,
+        passes,
+    }
+}
+
+/// A least-squares problem for [`levenberg_marquardt`]: a residual vector
+/// of a parameter vector, and optionally analytic Jacobian columns.
+pub trait Residuals {
+    /// The weighted residual vector at `th` (its squared sum is the cost).
+    fn residuals(&self, th: &[f64]) -> Vec<f64>;
+
+    /// `∂e/∂θ_j` at `th` when known in closed form; `None`: forward
+    /// differences.
+    fn column(&self, j: usize, th: &[f64]) -> Option<Vec<f64>> {
+        let _ = (j, th);
+        None
+    }
+}
+
+/// The record fit as a [`Residuals`] problem.
+struct ModelProblem<'a> {
+    p: &'a Prepared,
+    m0: &'a Model,
+    params: &'a [Param],
+    idx: &'a [usize],
+    t_span: f64,
+}
+
+impl Residuals for ModelProblem<'_> {
+    fn residuals(&self, th: &[f64]) -> Vec<f64> {
+        let m = decode(self.m0, self.params, th, self.t_span);
+        train_vec(self.p, &m, self.idx).0
+    }
+
+    fn column(&self, j: usize, th: &[f64]) -> Option<Vec<f64>> {
+        let m = decode(self.m0, self.params, th, self.t_span);
+        analytic_column(self.p, &m, *self.params.get(j)?, self.idx)
+    }
+}
+
+/// Levenberg–Marquardt (Marquardt's diagonal scaling) from `th0`: the one
+/// solver of the lab. Returns the parameters, the cost `Σ e²` and the
+/// number of residual evaluations.
+pub fn levenberg_marquardt(
+    problem: &dyn Residuals,
+    th0: Vec<f64>,
+    opts: &FitOptions,
+    tick: &mut dyn FnMut(usize),
+) -> (Vec<f64>, f64, usize) {
+    let np = th0.len();
+    let mut th = th0;
+    let mut e = problem.residuals(&th);
     let mut passes = 1;
     let mut cost: f64 = e.iter().map(|v| v * v).sum();
     let mut lambda = 1e-3;
     for it in 0..opts.max_iter {
         tick(it);
-        // Jacobian columns.
         let mut cols: Vec<Vec<f64>> = Vec::with_capacity(np);
-        for (j, &par) in params.iter().enumerate() {
-            if let Some(c) = analytic_column(p, &model, par, &idx) {
+        for j in 0..np {
+            if let Some(c) = problem.column(j, &th) {
                 cols.push(c);
                 continue;
             }
             let h = 1e-4 * th[j].abs().max(1.0);
             let mut th2 = th.clone();
             th2[j] += h;
-            let m2 = decode(m0, params, &th2, t_span);
-            let (e2, _) = train_vec(p, &m2, &idx);
+            let e2 = problem.residuals(&th2);
             passes += 1;
             cols.push(e2.iter().zip(&e).map(|(a, b)| (a - b) / h).collect());
         }
@@ -1005,15 +1062,12 @@ pub fn fit(
                 continue;
             };
             let th2: Vec<f64> = th.iter().zip(&step).map(|(a, b)| a + b).collect();
-            let m2 = decode(m0, params, &th2, t_span);
-            let (e2, _) = train_vec(p, &m2, &idx);
+            let e2 = problem.residuals(&th2);
             passes += 1;
             let c2: f64 = e2.iter().map(|v| v * v).sum();
             if c2.is_finite() && c2 < cost {
                 rel = (cost - c2) / cost;
-                // Re-encode: clamps in `set` may have moved the values.
-                th = encode(&m2, params, t_span);
-                model = m2;
+                th = th2;
                 e = e2;
                 cost = c2;
                 lambda = (lambda / 3.0).max(1e-9);
@@ -1026,9 +1080,5 @@ pub fn fit(
             break;
         }
     }
-    FitResult {
-        model,
-        cost,
-        passes,
-    }
+    (th, cost, passes)
 }

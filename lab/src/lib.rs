@@ -26,6 +26,7 @@ pub mod format;
 pub mod lugre;
 pub mod progress;
 pub mod static_curve;
+pub mod steady;
 pub mod svg;
 pub mod synth;
 pub mod workflow;

@@ -530,8 +530,6 @@ pub fn run(cmd: Command, out: &mut dyn Write) -> Result<(), Error> {
             candidates,
             window,
         } => {
-            let rec = load_data(&data, window)?;
-            let start = model.as_deref().map(load_model).transpose()?;
             let mut inputs = vec![data.as_path()];
             if let Some(m) = &model {
                 inputs.push(m.as_path());
@@ -539,6 +537,22 @@ pub fn run(cmd: Command, out: &mut dyn Write) -> Result<(), Error> {
             for o in [&json, &svg, &model_out].into_iter().flatten() {
                 not_input(o, &inputs)?;
             }
+            if crate::steady::is_steady(&data) {
+                let rec = crate::steady::SteadyRecord::new(crate::steady::read(&data)?);
+                let rep = crate::steady::diagnose_steady(&rec);
+                if let Some(j) = &json {
+                    write_file(j, &crate::steady::report_json(&rep))?;
+                }
+                if let Some(m) = &model_out {
+                    save_model(m, &rep.model)?;
+                }
+                return emit(
+                    out,
+                    &crate::steady::report_text(&rep, &data.display().to_string()),
+                );
+            }
+            let rec = load_data(&data, window)?;
+            let start = model.as_deref().map(load_model).transpose()?;
             let opts = Options {
                 half_width: window,
                 candidates,

@@ -1,0 +1,589 @@
+//! The discrepancy workflow on steady-state records (MODEL.md §6):
+//! constant-velocity runs with one force reading per speed, such as the
+//! Indy7 joint files. They carry no dynamics, so only the effects that
+//! change the steady-state curve `F(v)` can be seen: `viscous`,
+//! `nonlinear_viscous`, `offset`, `asymmetry` (and `stribeck`).
+//!
+//! The model is MODEL.md §2 and §5 in gross sliding (`w = 1`):
+//!
+//! ```text
+//! F(v) = d·S'(v) + σ·v + σ_n·d·|v|^n + F0,   d = sgn(v)
+//! S'   = Fc·(1 + a·d) + (Fs − Fc)·(1 + a·d)·exp(−(|v|/V)^δ)
+//! ```
+//!
+//! Rotary axes use rad/s and N·m (the Indy7 files are read in deg/s and
+//! converted). The residual is `r = F_measured − F(v)`, one per point;
+//! every point with index 2, 5 or 8 modulo 10 (file order) is held out.
+//! The selection is that of [`crate::diagnose`]: each missing candidate
+//! added and refitted ([`crate::fit::levenberg_marquardt`]), accepted when
+//! its held-out BIC is lower and its held-out RMS is lower by the
+//! candidate's required gain; a fit at a bound of its range is not a
+//! finding. One force reading per speed gives no noise estimate, so the
+//! floor is 0 and the gap is the held-out RMS itself.
+
+use crate::diagnose::{self, required_gain};
+use crate::fit::{self, FitOptions, Residuals, NV_EXP_RANGE};
+use crate::reference::{stribeck, Asymmetry, Effects, Model, NonlinearViscous, Offset};
+use crate::static_curve::Point;
+use crate::Error;
+use std::path::Path;
+
+/// The effects a steady-state record can show, in the order tried.
+pub const STEADY_CANDIDATES: [&str; 4] = ["viscous", "nonlinear_viscous", "offset", "asymmetry"];
+
+/// A free parameter of the steady-state fit.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Sp {
+    Fc,
+    FsExcess,
+    VStribeck,
+    Delta,
+    Sigma,
+    SigmaN,
+    NvExp,
+    F0,
+    Asym,
+}
+
+fn params_of(m: &Model) -> Vec<Sp> {
+    let mut p = vec![Sp::Fc];
+    if fit::has_effect(m, "stribeck") {
+        p.extend([Sp::FsExcess, Sp::VStribeck, Sp::Delta]);
+    }
+    if m.sigma > 0.0 {
+        p.push(Sp::Sigma);
+    }
+    let e = &m.effects;
+    if e.nonlinear_viscous.is_some() {
+        p.extend([Sp::SigmaN, Sp::NvExp]);
+    }
+    if e.offset.is_some() {
+        p.push(Sp::F0);
+    }
+    if e.asymmetry.is_some() {
+        p.push(Sp::Asym);
+    }
+    p
+}
+
+fn logit(x: f64, lo: f64, hi: f64) -> f64 {
+    let u = ((x - lo) / (hi - lo)).clamp(1e-6, 1.0 - 1e-6);
+    (u / (1.0 - u)).ln()
+}
+
+fn logistic(th: f64, lo: f64, hi: f64) -> f64 {
+    lo + (hi - lo) / (1.0 + (-th.clamp(-40.0, 40.0)).exp())
+}
+
+fn encode(m: &Model, ps: &[Sp]) -> Vec<f64> {
+    let e = &m.effects;
+    ps.iter()
+        .map(|p| match p {
+            Sp::Fc => m.fc.ln(),
+            Sp::FsExcess => (m.fs - m.fc).max(1e-9 * m.fc).ln(),
+            Sp::VStribeck => m.v_stribeck.ln(),
+            Sp::Delta => logit(m.delta, fit::DELTA_RANGE.0, fit::DELTA_RANGE.1),
+            Sp::Sigma => m.sigma,
+            Sp::SigmaN => e.nonlinear_viscous.map_or(0.0, |n| n.sigma_n),
+            Sp::NvExp => logit(
+                e.nonlinear_viscous.map_or(0.5, |n| n.n),
+                NV_EXP_RANGE.0,
+                NV_EXP_RANGE.1,
+            ),
+            Sp::F0 => e.offset.map_or(0.0, |o| o.f0),
+            Sp::Asym => e.asymmetry.map_or(0.0, |a| a.a.clamp(-0.95, 0.95).atanh()),
+        })
+        .collect()
+}
+
+fn decode(m0: &Model, ps: &[Sp], th: &[f64]) -> Model {
+    let mut m = m0.clone();
+    for (p, &x) in ps.iter().zip(th) {
+        let e = &mut m.effects;
+        match p {
+            Sp::Fc => {
+                let excess = m.fs - m.fc;
+                m.fc = x.clamp(-200.0, 200.0).exp();
+                m.fs = m.fc + excess.max(0.0);
+            }
+            Sp::FsExcess => m.fs = m.fc + x.clamp(-200.0, 200.0).exp(),
+            Sp::VStribeck => m.v_stribeck = x.clamp(-200.0, 200.0).exp(),
+            Sp::Delta => m.delta = logistic(x, fit::DELTA_RANGE.0, fit::DELTA_RANGE.1),
+            Sp::Sigma => m.sigma = x.max(0.0),
+            Sp::SigmaN | Sp::NvExp => {
+                let mut nv = e.nonlinear_viscous.unwrap_or(NonlinearViscous {
+                    sigma_n: 0.0,
+                    n: 0.5,
+                });
+                if *p == Sp::SigmaN {
+                    nv.sigma_n = x.max(0.0);
+                } else {
+                    nv.n = logistic(x, NV_EXP_RANGE.0, NV_EXP_RANGE.1);
+                }
+                e.nonlinear_viscous = Some(nv);
+            }
+            Sp::F0 => e.offset = Some(Offset { f0: x }),
+            Sp::Asym => {
+                e.asymmetry = Some(Asymmetry {
+                    a: x.clamp(-3.0, 3.0).tanh(),
+                })
+            }
+        }
+    }
+    m
+}
+
+/// The steady-state friction `F(v)` [N] (N·m) of `m` at velocity `v`
+/// (module doc).
+pub fn steady_force(m: &Model, v: f64) -> f64 {
+    let e = &m.effects;
+    let d = if v > 0.0 {
+        1.0
+    } else if v < 0.0 {
+        -1.0
+    } else {
+        0.0
+    };
+    let sc = 1.0 + e.asymmetry.map_or(0.0, |a| a.a) * d;
+    let mut scaled = m.clone();
+    scaled.fc = m.fc * sc;
+    scaled.fs = m.fs * sc;
+    let mut f = d * stribeck(&scaled, v) + m.sigma * v;
+    if let Some(nv) = &e.nonlinear_viscous {
+        f += nv.sigma_n * d * v.abs().powf(nv.n);
+    }
+    if let Some(o) = &e.offset {
+        f += o.f0;
+    }
+    f
+}
+
+/// A steady-state record prepared for fitting.
+#[derive(Clone, Debug)]
+pub struct SteadyRecord {
+    /// The points (velocity [m/s] or [rad/s], force [N] or [N·m]).
+    pub points: Vec<Point>,
+    /// Held-out flag per point.
+    pub held_out: Vec<bool>,
+}
+
+impl SteadyRecord {
+    /// Splits `points` (file order).
+    pub fn new(points: Vec<Point>) -> SteadyRecord {
+        let held_out = (0..points.len())
+            .map(|i| matches!(i % 10, 2 | 5 | 8))
+            .collect();
+        SteadyRecord { points, held_out }
+    }
+
+    /// RMS of `F_measured − F(v)` over the held-out (`true`) or training
+    /// points.
+    pub fn rms(&self, m: &Model, held_out: bool) -> f64 {
+        let (mut s, mut n) = (0.0, 0usize);
+        for (pt, _) in self
+            .points
+            .iter()
+            .zip(&self.held_out)
+            .filter(|(_, h)| **h == held_out)
+        {
+            let r = pt.tau - steady_force(m, pt.v);
+            s += r * r;
+            n += 1;
+        }
+        (s / n.max(1) as f64).sqrt()
+    }
+
+    fn count(&self, held_out: bool) -> usize {
+        self.held_out.iter().filter(|h| **h == held_out).count()
+    }
+}
+
+struct SteadyProblem<'a> {
+    rec: &'a SteadyRecord,
+    m0: &'a Model,
+    params: &'a [Sp],
+}
+
+impl Residuals for SteadyProblem<'_> {
+    fn residuals(&self, th: &[f64]) -> Vec<f64> {
+        let m = decode(self.m0, self.params, th);
+        self.rec
+            .points
+            .iter()
+            .zip(&self.rec.held_out)
+            .filter(|(_, h)| !**h)
+            .map(|(pt, _)| pt.tau - steady_force(&m, pt.v))
+            .collect()
+    }
+}
+
+/// Least-squares fit of the structure of `m0` on the training points.
+pub fn fit_steady(rec: &SteadyRecord, m0: &Model) -> Model {
+    let params = params_of(m0);
+    let problem = SteadyProblem {
+        rec,
+        m0,
+        params: &params,
+    };
+    let (th, _, _) = fit::levenberg_marquardt(
+        &problem,
+        encode(m0, &params),
+        &FitOptions::default(),
+        &mut |_| {},
+    );
+    tidy(rec, decode(m0, &params, &th))
+}
+
+/// Without a Stribeck dip (`Fs = Fc` up to 0.1 %) `V` and `δ` have no
+/// effect; they are written as neutral, physical values (the median speed,
+/// δ = 1), never as what the fit left.
+fn tidy(rec: &SteadyRecord, mut m: Model) -> Model {
+    if m.fs - m.fc <= 1e-3 * m.fc {
+        let mut speeds: Vec<f64> = rec.points.iter().map(|p| p.v.abs()).collect();
+        speeds.sort_by(f64::total_cmp);
+        m.fs = m.fc;
+        m.v_stribeck = speeds
+            .get(speeds.len() / 2)
+            .copied()
+            .filter(|v| *v > 0.0)
+            .unwrap_or(1.0);
+        m.delta = 1.0;
+    }
+    m
+}
+
+/// The base curve (Fc, Fs, V, δ; no effects), from a grid over `V` and
+/// `δ`, each node fitted, the best kept.
+fn base(rec: &SteadyRecord) -> Model {
+    let mut speeds: Vec<f64> = rec.points.iter().map(|p| p.v.abs()).collect();
+    speeds.sort_by(f64::total_cmp);
+    let mut levels: Vec<f64> = rec.points.iter().map(|p| p.tau.abs()).collect();
+    levels.sort_by(f64::total_cmp);
+    let fc = levels.first().copied().unwrap_or(1.0).max(1e-6);
+    let v_mid = speeds
+        .get(speeds.len() / 2)
+        .copied()
+        .unwrap_or(1.0)
+        .max(1e-9);
+    let mut best: Option<(f64, Model)> = None;
+    for vf in [0.03, 0.3, 3.0] {
+        for delta in [0.7, 1.5] {
+            let m0 = Model {
+                mass: 1.0,
+                fc,
+                fs: 1.5 * fc,
+                v_stribeck: vf * v_mid,
+                delta,
+                sigma: 0.0,
+                z_max: 0.0,
+                epsilon: 0.0,
+                effects: Effects::default(),
+            };
+            let m = fit_steady(rec, &m0);
+            let c = rec.rms(&m, false);
+            if c.is_finite() && best.as_ref().is_none_or(|(b, _)| c < *b) {
+                best = Some((c, m));
+            }
+        }
+    }
+    best.map_or_else(
+        || Model {
+            mass: 1.0,
+            fc,
+            fs: fc,
+            v_stribeck: v_mid,
+            delta: 1.0,
+            sigma: 0.0,
+            z_max: 0.0,
+            epsilon: 0.0,
+            effects: Effects::default(),
+        },
+        |(_, m)| m,
+    )
+}
+
+/// One accepted effect of a steady-state diagnosis.
+#[derive(Clone, Debug)]
+pub struct SteadyStep {
+    /// Catalogue name.
+    pub effect: String,
+    /// Held-out RMS before [N] (N·m).
+    pub rms_before: f64,
+    /// Held-out RMS after.
+    pub rms_after: f64,
+    /// BIC change on the held-out points.
+    pub score: f64,
+    /// The model after the step.
+    pub model: Model,
+    /// Every candidate of the round: (name, held-out RMS, BIC change).
+    pub candidates: Vec<(String, f64, f64)>,
+}
+
+/// The result of [`diagnose_steady`].
+#[derive(Clone, Debug)]
+pub struct SteadyReport {
+    /// Points.
+    pub n: usize,
+    /// The base curve and its held-out RMS.
+    pub start: Model,
+    /// Held-out RMS of the base curve [N] (N·m).
+    pub rms_before: f64,
+    /// Held-out RMS of the final model.
+    pub rms_after: f64,
+    /// Accepted steps.
+    pub steps: Vec<SteadyStep>,
+    /// The last round's candidates (none accepted).
+    pub rejected: Vec<(String, f64, f64)>,
+    /// Base parts dropped, with the reason.
+    pub dropped: Vec<(String, String)>,
+    /// The final model.
+    pub model: Model,
+}
+
+fn with_effect(m: &Model, name: &str, rec: &SteadyRecord) -> Vec<Model> {
+    let v_max = rec
+        .points
+        .iter()
+        .fold(1e-12f64, |a, p| a.max(p.v.abs()));
+    let mut out = Vec::new();
+    let mut c = m.clone();
+    match name {
+        "viscous" => {
+            c.sigma = 0.1 * m.fc / v_max;
+            out.push(c);
+        }
+        "nonlinear_viscous" => {
+            for n in [0.3, 0.6, 1.5] {
+                let mut c = m.clone();
+                c.effects.nonlinear_viscous = Some(NonlinearViscous {
+                    sigma_n: 0.1 * m.fc / v_max.powf(n),
+                    n,
+                });
+                out.push(c);
+            }
+        }
+        "offset" => {
+            c.effects.offset = Some(Offset { f0: 0.0 });
+            out.push(c);
+        }
+        "asymmetry" => {
+            for a in [0.1, -0.1] {
+                let mut c = m.clone();
+                c.effects.asymmetry = Some(Asymmetry { a });
+                out.push(c);
+            }
+        }
+        _ => {}
+    }
+    out
+}
+
+/// Why `name` in `m` is degenerate on this record, or `None`.
+fn degenerate(m: &Model, name: &str) -> Option<String> {
+    let near = |x: f64, b: f64| (x / b).ln().abs() < 0.02;
+    match name {
+        "nonlinear_viscous" => m.effects.nonlinear_viscous.and_then(|nv| {
+            if (nv.n - 1.0).abs() < 0.1 {
+                Some(format!("n = {:.3} is viscous", nv.n))
+            } else if near(nv.n, NV_EXP_RANGE.0) || near(nv.n, NV_EXP_RANGE.1) {
+                Some(format!("n = {:.3} at a bound", nv.n))
+            } else {
+                None
+            }
+        }),
+        "stribeck" if fit::has_effect(m, "stribeck") => {
+            (near(m.delta, fit::DELTA_RANGE.0) || near(m.delta, fit::DELTA_RANGE.1))
+                .then(|| format!("delta = {:.4} at a bound of its range", m.delta))
+        }
+        _ => None,
+    }
+}
+
+/// The name → add → shrink loop on a steady-state record.
+pub fn diagnose_steady(rec: &SteadyRecord) -> SteadyReport {
+    let mut model = base(rec);
+    let mut dropped = Vec::new();
+    if let Some(why) = degenerate(&model, "stribeck") {
+        let mut c = model.clone();
+        c.fs = c.fc;
+        model = fit_steady(rec, &tidy(rec, c));
+        dropped.push(("stribeck".to_string(), why));
+    }
+    let start = model.clone();
+    let n_held = rec.count(true).max(1) as f64;
+    let bic = |rms: f64, k: usize| n_held * (rms * rms).max(1e-300).ln() + k as f64 * n_held.ln();
+    let mut rms = rec.rms(&model, true);
+    let rms_before = rms;
+    let mut steps = Vec::new();
+    let mut rejected = Vec::new();
+    for _ in 0..diagnose::MAX_ROUNDS {
+        let bic_cur = bic(rms, params_of(&model).len());
+        let mut cands: Vec<(String, f64, f64, Model)> = Vec::new();
+        for name in STEADY_CANDIDATES {
+            if fit::has_effect(&model, name) {
+                continue;
+            }
+            let best = with_effect(&model, name, rec)
+                .iter()
+                .map(|s| fit_steady(rec, s))
+                .filter(|m| degenerate(m, name).is_none())
+                .min_by(|a, b| rec.rms(a, false).total_cmp(&rec.rms(b, false)));
+            if let Some(m) = best {
+                let r = rec.rms(&m, true);
+                let score = bic(r, params_of(&m).len()) - bic_cur;
+                cands.push((name.to_string(), r, score, m));
+            }
+        }
+        cands.sort_by(|a, b| a.2.total_cmp(&b.2));
+        let summary: Vec<(String, f64, f64)> =
+            cands.iter().map(|c| (c.0.clone(), c.1, c.2)).collect();
+        match cands.into_iter().next() {
+            Some((name, r, score, m))
+                if score < 0.0 && r <= (1.0 - required_gain(&name)) * rms =>
+            {
+                steps.push(SteadyStep {
+                    effect: name,
+                    rms_before: rms,
+                    rms_after: r,
+                    score,
+                    model: m.clone(),
+                    candidates: summary,
+                });
+                model = m;
+                rms = r;
+            }
+            _ => {
+                rejected = summary;
+                break;
+            }
+        }
+    }
+    SteadyReport {
+        n: rec.points.len(),
+        start,
+        rms_before,
+        rms_after: rms,
+        steps,
+        rejected,
+        dropped,
+        model,
+    }
+}
+
+/// Reads a steady-state record: the Indy7 layout (`desired vel, real vel,
+/// tau` in deg/s and N·m) or a CSV with columns `v` and `u` (SI units, any
+/// order, `#` comments).
+pub fn read(path: &Path) -> Result<Vec<Point>, Error> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| Error::Runtime(format!("{}: cannot read: {e}", path.display())))?;
+    if text
+        .lines()
+        .any(|l| l.trim().to_ascii_lowercase().starts_with("desired vel"))
+    {
+        return crate::static_curve::read(path);
+    }
+    let rec = crate::data::parse_steady_csv(&text, path)?;
+    Ok(rec)
+}
+
+/// True when `path` holds a steady-state record rather than a time series:
+/// the Indy7 layout, or a CSV header with `v` and `u` but no `t`.
+pub fn is_steady(path: &Path) -> bool {
+    let Ok(text) = std::fs::read_to_string(path) else {
+        return false;
+    };
+    let mut lines = text
+        .lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty() && !l.starts_with('#'));
+    let Some(first) = lines.next() else {
+        return false;
+    };
+    if text
+        .lines()
+        .any(|l| l.trim().to_ascii_lowercase().starts_with("desired vel"))
+    {
+        return true;
+    }
+    let cols: Vec<&str> = first.split(',').map(str::trim).collect();
+    cols.contains(&"v") && cols.contains(&"u") && !cols.contains(&"t")
+}
+
+/// The JSON report (the keys of [`crate::diagnose::report_json`] that
+/// apply).
+pub fn report_json(rep: &SteadyReport) -> String {
+    use serde_json::json;
+    let steps: Vec<_> = rep
+        .steps
+        .iter()
+        .map(|s| {
+            json!({
+                "effect": s.effect,
+                "params": diagnose::effect_params(&s.model, &s.effect),
+                "rms_before": s.rms_before,
+                "rms_after": s.rms_after,
+                "score": s.score,
+                "candidates": s.candidates.iter().map(|c| json!({"effect": c.0, "rms": c.1, "score": c.2})).collect::<Vec<_>>(),
+            })
+        })
+        .collect();
+    let v = json!({
+        "kind": "steady_state",
+        "effects_added": rep.steps.iter().map(|s| s.effect.clone()).collect::<Vec<_>>(),
+        "metric": "held-out RMS of F_measured - F(v) over the points with index 2, 5, 8 mod 10 (steady-state record: no dynamics, no noise estimate, floor 0); mass and z_max are not identifiable from it",
+        "rms_before": rep.rms_before,
+        "rms_after": rep.rms_after,
+        "floor": 0.0,
+        "steps": steps,
+        "rejected": rep.rejected.iter().map(|c| json!({"effect": c.0, "rms": c.1, "score": c.2})).collect::<Vec<_>>(),
+        "dropped": rep.dropped.iter().map(|(n, why)| json!({"part": n, "reason": why})).collect::<Vec<_>>(),
+        "start_model": diagnose::model_json(&rep.start),
+        "model": diagnose::model_json(&rep.model),
+        "samples": rep.n,
+    });
+    let mut s = serde_json::to_string_pretty(&v).unwrap_or_else(|_| "{}".into());
+    s.push('\n');
+    s
+}
+
+/// The terminal text.
+pub fn report_text(rep: &SteadyReport, source: &str) -> String {
+    use crate::format::short;
+    use std::fmt::Write as _;
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "{source}: steady-state record, {} points (one force per speed; only F(v) effects are visible)",
+        rep.n
+    );
+    for (part, why) in &rep.dropped {
+        let _ = writeln!(s, "not identifiable here, dropped: `{part}` ({why})");
+    }
+    let _ = writeln!(
+        s,
+        "start: Stribeck curve, held-out rms {}",
+        short(rep.rms_before, 4)
+    );
+    for (k, st) in rep.steps.iter().enumerate() {
+        let _ = writeln!(
+            s,
+            "step {}: missing effect `{}`; adding it shrinks the gap from {} to {} ({:.0} %), fitted {}",
+            k + 1,
+            st.effect,
+            short(st.rms_before, 4),
+            short(st.rms_after, 4),
+            100.0 * (st.rms_before - st.rms_after) / st.rms_before,
+            diagnose::effect_params(&st.model, &st.effect)
+        );
+    }
+    let added: Vec<&str> = rep.steps.iter().map(|s| s.effect.as_str()).collect();
+    let _ = writeln!(
+        s,
+        "effects added: [{}]; gap {} -> {}",
+        added.join(", "),
+        short(rep.rms_before, 4),
+        short(rep.rms_after, 4)
+    );
+    let _ = writeln!(s, "model: {}", diagnose::model_json(&rep.model));
+    s
+}
