@@ -703,6 +703,33 @@ pub fn dwell_spread(p: &Prepared, m: &Model) -> f64 {
     }
 }
 
+/// Restarts of the base shape: `V` at 0.3, 1 and 3 times the 20 % speed
+/// quantile, δ = 1 and 2, `Fs = 1.4·Fc`, the rest of `m` kept.
+fn restarts(p: &Prepared, m: &Model) -> Vec<Model> {
+    let mut speeds: Vec<f64> = p
+        .valid()
+        .map(|i| p.v[i].abs())
+        .filter(|s| *s > p.v_rest)
+        .collect();
+    let v_lo = quantile(&mut speeds, 0.2);
+    let v_lo = if v_lo.is_finite() && v_lo > 0.0 {
+        v_lo
+    } else {
+        1e-3
+    };
+    let mut out = vec![m.clone()];
+    for vf in [0.3, 1.0, 3.0] {
+        for delta in [1.0, 2.0] {
+            let mut c = m.clone();
+            c.fs = 1.4 * c.fc;
+            c.v_stribeck = vf * v_lo;
+            c.delta = delta;
+            out.push(c);
+        }
+    }
+    out
+}
+
 /// Least relative rise of the held-out RMS for which a part of the base
 /// structure (`stribeck`, `presliding`) is kept: a part whose removal
 /// costs less than this is not supported by the record.
@@ -1097,6 +1124,15 @@ pub fn diagnose(
     show("refitting with error weights");
     let params = fit::params_of(&model);
     model = fit::fit(&p, &model, &params, &FitOptions::default(), &mut |_| {}).model;
+    if start.is_none() && degenerate(&p, &model, "stribeck").is_some() {
+        // A local minimum with V → 0 or δ at a bound: restart the shape
+        // from the data's low speeds before calling Stribeck absent.
+        let starts = restarts(&p, &model);
+        let again = fit_multistart(&p, &starts, &mut |s| show(&format!("restarting the base fit ({s})")));
+        if held_rms(&p, &again).0 < held_rms(&p, &model).0 {
+            model = again;
+        }
+    }
     let (simpler, mut dropped) = simplify(&p, model, false, &mut show);
     model = simpler;
     let start_model = model.clone();

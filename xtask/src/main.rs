@@ -14,6 +14,7 @@ mod checks;
 mod fuzz;
 mod profile;
 mod qemu;
+mod sweep;
 
 use std::env;
 use std::path::{Path, PathBuf};
@@ -25,7 +26,9 @@ const USAGE: &str = "usage: cargo xtask <setup|demo|test|profile>
   test     set up, then run every check (fmt, clippy, host tests, on-target checks)
   profile  [--target T] [--budget-hz 20000] [--cpu-hz 168000000] [--json]
            instructions per call of the hot functions under QEMU
-  fuzz     [--seconds 60] [--target NAME]  the cargo-fuzz targets (nightly)";
+  fuzz     [--seconds 60] [--target NAME]  the cargo-fuzz targets (nightly)
+  sweep    [--seeds 100000..100160] [--kind mixed|model|outside] [--out DIR] [--json FILE]
+           the discrepancy workflow scored on records of the independent generator";
 
 fn main() -> ExitCode {
     let args: Vec<String> = env::args().skip(1).collect();
@@ -38,6 +41,7 @@ fn main() -> ExitCode {
         Some("fuzz") => fuzz::Options::parse(&args[1..])
             .and_then(|o| setup().and_then(|()| fuzz::fuzz(&o)))
             .map(|lines| lines.iter().for_each(|l| println!("{l}"))),
+        Some("sweep") => sweep::Options::parse(&args[1..]).and_then(|o| sweep::command(&o)),
         Some("-h" | "--help") => {
             println!("{USAGE}");
             Ok(())
@@ -51,6 +55,14 @@ fn main() -> ExitCode {
             ExitCode::FAILURE
         }
     }
+}
+
+/// Cargo's target directory: `CARGO_TARGET_DIR` when set, else `./target`.
+pub(crate) fn target_dir() -> PathBuf {
+    env::var_os("CARGO_TARGET_DIR")
+        .map(PathBuf::from)
+        .map(|d| if d.is_absolute() { d } else { root().join(d) })
+        .unwrap_or_else(|| root().join("target"))
 }
 
 /// The workspace root (the parent of this crate's directory).

@@ -1,0 +1,364 @@
+//! `cargo xtask sweep`: the discrepancy workflow scored on records from the
+//! independent generator (`breakaway-gen`, which shares no code with the
+//! fitter).
+//!
+//! For each seed the generator writes `DIR/<name>/data.csv`, `truth.json`
+//! (hidden effects, visibility = effect RMS / noise std, `accept_extra`);
+//! `breakaway-lab diagnose data.csv --json report.json` names effects. A
+//! record is **named exactly** when the named set equals the hidden set
+//! plus any subset of `accept_extra` (names a correct diagnosis of a plant
+//! outside MODEL.md may add, such as `frictional_lag` for LuGre); with
+//! hidden effects it **halves the gap** when also
+//! `rms_after <= 0.5·rms_before`. A record without hidden effects that names
+//! one is a false positive. The scoring rule is fixed here, before any
+//! sweep is run; the workflow's thresholds live in `breakaway-lab` and are
+//! not tuned on a sweep's seeds.
+
+use crate::{cargo, root, run};
+use serde_json::{json, Value};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// Options of `cargo xtask sweep`.
+#[derive(Clone, Debug)]
+pub struct Options {
+    /// First seed.
+    pub from: u64,
+    /// One past the last seed.
+    pub to: u64,
+    /// Record kind for the generator (`model`, `outside`, `mixed`).
+    pub kind: String,
+    /// Where the records and reports go.
+    pub out: PathBuf,
+    /// Where the JSON summary goes (also printed).
+    pub json: Option<PathBuf>,
+}
+
+impl Options {
+    /// Parses `--seeds A..B --kind K --out DIR --json FILE`.
+    pub fn parse(args: &[String]) -> Result<Options, String> {
+        let mut o = Options {
+            from: 100_000,
+            to: 100_160,
+            kind: "mixed".into(),
+            out: root().join("target/sweep"),
+            json: None,
+        };
+        let mut it = args.iter();
+        while let Some(a) = it.next() {
+            let mut value = || {
+                it.next()
+                    .cloned()
+                    .ok_or_else(|| format!("sweep: {a} needs a value"))
+            };
+            match a.as_str() {
+                "--seeds" => {
+                    let v = value()?;
+                    let (a, b) = v
+                        .split_once("..")
+                        .ok_or_else(|| format!("sweep: --seeds wants A..B, got `{v}`"))?;
+                    o.from = a
+                        .parse()
+                        .map_err(|_| format!("sweep: --seeds: `{a}` is not a seed"))?;
+                    o.to = b
+                        .parse()
+                        .map_err(|_| format!("sweep: --seeds: `{b}` is not a seed"))?;
+                    if o.to <= o.from {
+                        return Err(format!("sweep: --seeds {v} is empty"));
+                    }
+                }
+                "--kind" => o.kind = value()?,
+                "--out" => o.out = PathBuf::from(value()?),
+                "--json" => o.json = Some(PathBuf::from(value()?)),
+                other => return Err(format!("sweep: unknown argument `{other}`")),
+            }
+        }
+        Ok(o)
+    }
+}
+
+/// The score of one record.
+#[derive(Clone, Debug)]
+pub struct Scored {
+    /// Record name.
+    pub name: String,
+    /// Plant of the generator.
+    pub plant: String,
+    /// Hidden effects.
+    pub hidden: Vec<String>,
+    /// Named effects.
+    pub named: Vec<String>,
+    /// Visibility per hidden effect.
+    pub visibility: Vec<(String, f64)>,
+    /// Named exactly (see the module doc).
+    pub exact: bool,
+    /// Gap shrink `1 − after/before` (with hidden effects).
+    pub shrink: Option<f64>,
+    /// Diagnose failed (message).
+    pub failed: Option<String>,
+}
+
+impl Scored {
+    /// Exact and, with hidden effects, the gap halved.
+    pub fn success(&self) -> bool {
+        self.exact && self.shrink.is_none_or(|s| s >= 0.5)
+    }
+}
+
+fn strings(v: &Value) -> Vec<String> {
+    v.as_array()
+        .map(|a| {
+            a.iter()
+                .filter_map(|s| s.as_str().map(str::to_string))
+                .collect()
+        })
+        .unwrap_or_default()
+}
+
+/// Scores the report `report` against the truth `truth` (module doc).
+pub fn score(name: &str, truth: &Value, report: Result<Value, String>) -> Scored {
+    let hidden = strings(&truth["hidden"]);
+    let extra = strings(&truth["accept_extra"]);
+    let visibility = hidden
+        .iter()
+        .map(|h| (h.clone(), truth["visibility"][h].as_f64().unwrap_or(f64::NAN)))
+        .collect();
+    let plant = truth["plant"].as_str().unwrap_or("model").to_string();
+    match report {
+        Err(e) => Scored {
+            name: name.into(),
+            plant,
+            hidden,
+            named: Vec::new(),
+            visibility,
+            exact: false,
+            shrink: None,
+            failed: Some(e),
+        },
+        Ok(rep) => {
+            let named = strings(&rep["effects_added"]);
+            let exact = hidden.iter().all(|h| named.contains(h))
+                && named
+                    .iter()
+                    .all(|n| hidden.contains(n) || extra.contains(n));
+            let shrink = (!hidden.is_empty()).then(|| {
+                let b = rep["rms_before"].as_f64().unwrap_or(f64::NAN);
+                let a = rep["rms_after"].as_f64().unwrap_or(f64::NAN);
+                1.0 - a / b
+            });
+            Scored {
+                name: name.into(),
+                plant,
+                hidden,
+                named,
+                visibility,
+                exact,
+                shrink,
+                failed: None,
+            }
+        }
+    }
+}
+
+fn read_json(path: &Path) -> Result<Value, String> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+    serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// Generates the records of `o` and diagnoses each (two at a time).
+pub fn sweep(o: &Options) -> Result<Vec<Scored>, String> {
+    run(cargo().args([
+        "build",
+        "--release",
+        "-p",
+        "breakaway-gen",
+        "-p",
+        "breakaway-lab",
+    ]))?;
+    let bin = crate::target_dir().join("release");
+    std::fs::create_dir_all(&o.out).map_err(|e| format!("{}: {e}", o.out.display()))?;
+    run(Command::new(bin.join("breakaway-gen")).args([
+        "suite",
+        "--seeds",
+        &format!("{}..{}", o.from, o.to),
+        "--kind",
+        &o.kind,
+        "--out",
+        &o.out.display().to_string(),
+    ]))?;
+    let mut dirs: Vec<PathBuf> = std::fs::read_dir(&o.out)
+        .map_err(|e| format!("{}: {e}", o.out.display()))?
+        .filter_map(Result::ok)
+        .map(|e| e.path())
+        .filter(|p| p.join("truth.json").is_file())
+        .collect();
+    dirs.sort();
+    let total = dirs.len();
+    let done = AtomicUsize::new(0);
+    let lab = bin.join("breakaway-lab");
+    let one = |dir: &PathBuf| -> Scored {
+        let name = dir
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let truth = read_json(&dir.join("truth.json")).unwrap_or(Value::Null);
+        let report_path = dir.join("report.json");
+        let status = Command::new(&lab)
+            .arg("diagnose")
+            .arg(dir.join("data.csv"))
+            .arg("--json")
+            .arg(&report_path)
+            .output();
+        let report = match status {
+            Ok(out) if out.status.success() => read_json(&report_path),
+            Ok(out) => Err(String::from_utf8_lossy(&out.stderr).trim().to_string()),
+            Err(e) => Err(format!("cannot run breakaway-lab: {e}")),
+        };
+        let s = score(&name, &truth, report);
+        let k = done.fetch_add(1, Ordering::Relaxed) + 1;
+        eprintln!(
+            "sweep [{k}/{total}] {name}: hidden [{}] named [{}]{}",
+            s.hidden.join(", "),
+            s.named.join(", "),
+            if s.success() { "" } else { "  <- miss" }
+        );
+        s
+    };
+    let mut scored: Vec<Scored> = std::thread::scope(|sc| {
+        let hs: Vec<_> = (0..2)
+            .map(|t| {
+                let dirs = &dirs;
+                let one = &one;
+                sc.spawn(move || {
+                    dirs.iter()
+                        .skip(t)
+                        .step_by(2)
+                        .map(one)
+                        .collect::<Vec<_>>()
+                })
+            })
+            .collect();
+        hs.into_iter()
+            .flat_map(|h| h.join().unwrap_or_default())
+            .collect()
+    });
+    scored.sort_by(|a, b| a.name.cmp(&b.name));
+    Ok(scored)
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.retain(|x| x.is_finite());
+    if v.is_empty() {
+        return f64::NAN;
+    }
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+/// The summary: overall rates, false positives, per effect detection
+/// against visibility, gap shrink, per plant.
+pub fn summary(scored: &[Scored]) -> Value {
+    let n = scored.len();
+    let exact = scored.iter().filter(|s| s.exact).count();
+    let success = scored.iter().filter(|s| s.success()).count();
+    let nulls: Vec<&Scored> = scored.iter().filter(|s| s.hidden.is_empty()).collect();
+    let fp = nulls.iter().filter(|s| !s.named.is_empty()).count();
+    let shrinks: Vec<f64> = scored.iter().filter_map(|s| s.shrink).collect();
+    let bins = [(0.0, 10.0), (10.0, 20.0), (20.0, 50.0), (50.0, f64::INFINITY)];
+    let mut effects: Vec<String> = scored.iter().flat_map(|s| s.hidden.clone()).collect();
+    effects.sort();
+    effects.dedup();
+    let per_effect: Vec<Value> = effects
+        .iter()
+        .map(|e| {
+            let with: Vec<(&Scored, f64)> = scored
+                .iter()
+                .filter_map(|s| {
+                    s.visibility
+                        .iter()
+                        .find(|(n, _)| n == e)
+                        .map(|(_, v)| (s, *v))
+                })
+                .collect();
+            let by_bin: Vec<Value> = bins
+                .iter()
+                .map(|(lo, hi)| {
+                    let inb: Vec<&(&Scored, f64)> =
+                        with.iter().filter(|(_, v)| *v >= *lo && *v < *hi).collect();
+                    json!({
+                        "visibility": format!("{lo}-{hi}"),
+                        "records": inb.len(),
+                        "detected": inb.iter().filter(|(s, _)| s.named.contains(e)).count(),
+                    })
+                })
+                .collect();
+            json!({
+                "effect": e,
+                "records": with.len(),
+                "detected": with.iter().filter(|(s, _)| s.named.contains(e)).count(),
+                "exact": with.iter().filter(|(s, _)| s.exact).count(),
+                "median_shrink": median(with.iter().filter_map(|(s, _)| s.shrink).collect()),
+                "by_visibility": by_bin,
+            })
+        })
+        .collect();
+    let above20: Vec<bool> = scored
+        .iter()
+        .flat_map(|s| {
+            s.visibility
+                .iter()
+                .filter(|(_, v)| *v >= 20.0)
+                .map(|(e, _)| s.named.contains(e))
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    let mut plants: Vec<String> = scored.iter().map(|s| s.plant.clone()).collect();
+    plants.sort();
+    plants.dedup();
+    let per_plant: Vec<Value> = plants
+        .iter()
+        .map(|p| {
+            let of: Vec<&Scored> = scored.iter().filter(|s| &s.plant == p).collect();
+            json!({
+                "plant": p,
+                "records": of.len(),
+                "exact": of.iter().filter(|s| s.exact).count(),
+                "success": of.iter().filter(|s| s.success()).count(),
+                "false_positives": of.iter().filter(|s| s.hidden.is_empty() && !s.named.is_empty()).count(),
+                "nulls": of.iter().filter(|s| s.hidden.is_empty()).count(),
+            })
+        })
+        .collect();
+    json!({
+        "records": n,
+        "named_exactly": exact,
+        "named_exactly_and_gap_halved": success,
+        "null_records": nulls.len(),
+        "false_positives": fp,
+        "median_shrink": median(shrinks),
+        "detection_above_20x": {
+            "effects": above20.len(),
+            "detected": above20.iter().filter(|d| **d).count(),
+        },
+        "failed": scored.iter().filter(|s| s.failed.is_some()).map(|s| json!({"record": s.name, "error": s.failed})).collect::<Vec<_>>(),
+        "per_effect": per_effect,
+        "per_plant": per_plant,
+        "misses": scored.iter().filter(|s| !s.success()).map(|s| json!({
+            "record": s.name, "hidden": s.hidden, "named": s.named, "shrink": s.shrink,
+        })).collect::<Vec<_>>(),
+    })
+}
+
+/// `cargo xtask sweep`.
+pub fn command(o: &Options) -> Result<(), String> {
+    let scored = sweep(o)?;
+    let s = summary(&scored);
+    let text = serde_json::to_string_pretty(&s).map_err(|e| e.to_string())?;
+    if let Some(j) = &o.json {
+        std::fs::write(j, format!("{text}\n")).map_err(|e| format!("{}: {e}", j.display()))?;
+    }
+    println!("{text}");
+    Ok(())
+}
