@@ -179,9 +179,12 @@ pub struct Report {
     pub steps: Vec<Step>,
     /// The last round's candidates (none accepted).
     pub last_round: Vec<Candidate>,
-    /// Effects dropped by the backward pass: (name, held-out RMS without
-    /// it, with it) [N].
+    /// Effects dropped by the backward pass: (name, held-out model error
+    /// without it, with it) [N].
     pub pruned: Vec<(String, f64, f64)>,
+    /// Effects replaced by a runner-up in the swap pass: (taken, replaced
+    /// by, model error before, after) [N].
+    pub swapped: Vec<(String, String, f64, f64)>,
     /// Where the residual concentrates before the first step.
     pub regions: Vec<Region>,
     /// RMS per regime before the first step.
@@ -827,6 +830,17 @@ fn simplify(
     (m, dropped)
 }
 
+/// Without a Stribeck dip (`Fs = Fc`) `V` and `δ` have no effect; they are
+/// written as neutral, physical values (as [`remove_effect`] does), never
+/// as what a fit left (EMPS: `V = 1.7e-22`, δ at its bound).
+fn tidy(p: &Prepared, m: Model) -> Model {
+    if fit::has_effect(&m, "stribeck") {
+        m
+    } else {
+        remove_effect(&m, "stribeck", p)
+    }
+}
+
 /// `m` without the catalogue effect `name`.
 fn remove_effect(m: &Model, name: &str, p: &Prepared) -> Model {
     let mut c = m.clone();
@@ -1133,8 +1147,9 @@ pub fn diagnose(
             model = again;
         }
     }
-    let (simpler, mut dropped) = simplify(&p, model, false, &mut show);
-    model = simpler;
+    // A degenerate base part is kept while effects are missing (they can
+    // bend the base fit); the final model is simplified below.
+    let mut dropped = Vec::new();
     let start_model = model.clone();
     let (mut rms, mut r) = held_rms(&p, &model);
     let raw_before = rms;
@@ -1251,16 +1266,76 @@ pub fn diagnose(
             }
         }
     }
+    // Swap pass: an effect taken while another was still missing may be
+    // the look-alike of a runner-up of its round (nonlinear_viscous for
+    // viscous beside drift, asymmetry for offset). With the others in
+    // place, each added effect is replaced by the runner-ups of its round
+    // (the two next best) when one gives a lower held-out BIC.
+    let mut swapped = Vec::new();
+    if steps.len() > 1 {
+        for k in 0..steps.len() {
+            let name = steps[k].effect.clone();
+            let alts: Vec<String> = steps[k]
+                .candidates
+                .iter()
+                .skip(1)
+                .take(2)
+                .map(|c| c.effect.clone())
+                .filter(|c| !fit::has_effect(&model, c))
+                .collect();
+            if alts.is_empty() {
+                continue;
+            }
+            show(&format!("swap check: {name}"));
+            let without = remove_effect(&model, &name, &p);
+            let params = fit::params_of(&without);
+            let base = fit::fit(&p, &without, &params, &FitOptions::default(), &mut |_| {}).model;
+            let base_r = p.residual(&base);
+            let bic_cur = bic(&p, rms, fit::params_of(&model).len());
+            let mut best: Option<(f64, String, Model)> = None;
+            for alt in &alts {
+                let starts = candidate_starts(&p, &base, alt, &base_r);
+                if starts.is_empty() {
+                    continue;
+                }
+                let fitted = fit_multistart(&p, &starts, &mut |_| {});
+                if !fit::has_effect(&fitted, alt) || degenerate(&p, &fitted, alt).is_some() {
+                    continue;
+                }
+                let a_rms = held_rms(&p, &fitted).0;
+                let b = bic(&p, a_rms, fit::params_of(&fitted).len());
+                if b < bic_cur && best.as_ref().is_none_or(|(bb, _, _)| b < *bb) {
+                    best = Some((b, alt.clone(), fitted));
+                }
+            }
+            if let Some((_, alt, m)) = best {
+                let (new_rms, new_r) = held_rms(&p, &m);
+                swapped.push((
+                    name,
+                    alt.clone(),
+                    fit::model_error(rms, floor),
+                    fit::model_error(new_rms, floor),
+                ));
+                steps[k].effect = alt;
+                steps[k].model = m.clone();
+                model = m;
+                rms = new_rms;
+                r = new_r;
+            }
+        }
+    }
     let (simpler, more) = simplify(&p, model.clone(), true, &mut show);
     if !more.is_empty() {
         model = simpler;
         (rms, r) = held_rms(&p, &model);
         dropped.extend(more);
     }
+    let model = tidy(&p, model);
     progress.finish();
     let still = p.valid().filter(|&i| p.still[i]).count();
     Report {
         pruned,
+        swapped,
         n: p.len(),
         dt: p.dt,
         resolution: p.resolution,
@@ -1383,6 +1458,7 @@ pub fn report_json(rep: &Report) -> String {
         "regimes": rep.regimes.iter().map(|r| json!({"regime": r.regime, "n": r.n, "rms": r.rms})).collect::<Vec<_>>(),
         "signals": rep.signals.iter().map(|(n, f)| json!({"signal": n, "explained": f})).collect::<Vec<_>>(),
         "steps": steps,
+        "swapped": rep.swapped.iter().map(|(a, b, before, after)| json!({"effect": a, "replaced_by": b, "rms_before": before, "rms_after": after})).collect::<Vec<_>>(),
         "pruned": rep.pruned.iter().map(|(n, without, with)| json!({"effect": n, "rms_without": without, "rms_with": with})).collect::<Vec<_>>(),
         "rejected": rep.last_round.iter().map(|c| json!({"effect": c.effect, "rms": c.rms, "score": c.score})).collect::<Vec<_>>(),
         "accept_gain": ACCEPT_GAIN,
@@ -1506,6 +1582,14 @@ pub fn report_text(rep: &Report, source: &str) -> String {
             pct(rep.rms_before, rep.rms_after),
             short(rep.raw_after, 3),
             100.0 * (rep.floor / rep.raw_after.max(1e-300)).powi(2).min(1.0)
+        );
+    }
+    for (a, b, before, after) in &rep.swapped {
+        let _ = writeln!(
+            s,
+            "swap check: `{a}` replaced by `{b}` (model error {} N -> {} N, lower held-out BIC)",
+            short(*before, 4),
+            short(*after, 4)
         );
     }
     for (n, without, with) in &rep.pruned {
