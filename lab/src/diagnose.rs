@@ -706,6 +706,18 @@ pub fn dwell_spread(p: &Prepared, m: &Model) -> f64 {
     }
 }
 
+/// `viscous` is `nonlinear_viscous` with `n = 1`: the general form is
+/// taken only when it beats the nested one by [`ACCEPT_GAIN_PER_PARAM`]
+/// (its one extra parameter); otherwise `viscous` moves to the front.
+fn prefer_nested(cands: &mut [Candidate]) {
+    let pos = |name: &str| cands.iter().position(|c| c.effect == name);
+    if let (Some(0), Some(v)) = (pos("nonlinear_viscous"), pos("viscous")) {
+        if cands[0].rms > (1.0 - ACCEPT_GAIN_PER_PARAM) * cands[v].rms {
+            cands.swap(0, v);
+        }
+    }
+}
+
 /// Restarts of the base shape: `V` at 0.3, 1 and 3 times the 20 % speed
 /// quantile, δ = 1 and 2, `Fs = 1.4·Fc`, the rest of `m` kept.
 fn restarts(p: &Prepared, m: &Model) -> Vec<Model> {
@@ -738,6 +750,11 @@ fn restarts(p: &Prepared, m: &Model) -> Vec<Model> {
 /// costs less than this is not supported by the record.
 pub const KEEP_GAIN: f64 = 0.01;
 
+/// A degenerate base part (a parameter at a bound) is still kept when the
+/// model without it is worse by more than this fraction of the held-out
+/// RMS: the record needs the shape, only not at an interior value.
+pub const DEGENERATE_KEEP: f64 = 0.1;
+
 /// Why the part `name` of `m` (a catalogue effect, `stribeck` or
 /// `presliding`) is degenerate — a parameter at a bound of its range or at
 /// a value the record cannot resolve — or `None`.
@@ -745,16 +762,10 @@ pub fn degenerate(p: &Prepared, m: &Model, name: &str) -> Option<String> {
     let near = |x: f64, bound: f64| (x / bound).ln().abs() < 0.02;
     match name {
         "stribeck" if fit::has_effect(m, name) => {
-            let v_max = p.valid().map(|i| p.v[i].abs()).fold(0.0, f64::max);
             if m.v_stribeck < p.v_rest {
                 Some(format!(
                     "V = {:.3e} m/s is below the slowest speed the encoder resolves ({:.3e} m/s)",
                     m.v_stribeck, p.v_rest
-                ))
-            } else if m.v_stribeck > v_max {
-                Some(format!(
-                    "V = {:.3e} m/s is above every speed of the record",
-                    m.v_stribeck
                 ))
             } else if near(m.delta, fit::DELTA_RANGE.0) || near(m.delta, fit::DELTA_RANGE.1) {
                 Some(format!("delta = {:.4} at a bound of its range", m.delta))
@@ -814,14 +825,19 @@ fn simplify(
         let params = fit::params_of(&without);
         let refit = fit::fit(p, &without, &params, &FitOptions::default(), &mut |_| {}).model;
         let (with_rms, without_rms) = (held_rms(p, &m).0, held_rms(p, &refit).0);
-        let reason = degenerate(p, &m, part).or_else(|| {
-            (without_rms <= (1.0 + KEEP_GAIN) * with_rms).then(|| {
+        // A degenerate part is dropped unless the record clearly needs it
+        // (its refit without is worse by more than DEGENERATE_KEEP); a
+        // sound one only when it does not help by KEEP_GAIN.
+        let reason = match degenerate(p, &m, part) {
+            Some(why) if without_rms <= (1.0 + DEGENERATE_KEEP) * with_rms => Some(why),
+            Some(_) => None,
+            None => (without_rms <= (1.0 + KEEP_GAIN) * with_rms).then(|| {
                 format!(
                     "held-out rms {:.4e} N without it, {:.4e} N with it",
                     without_rms, with_rms
                 )
-            })
-        });
+            }),
+        };
         if let Some(why) = reason {
             dropped.push((part.to_string(), why));
             m = refit;
@@ -1209,6 +1225,7 @@ pub fn diagnose(
             });
         }
         cands.sort_by(|a, b| a.score.total_cmp(&b.score));
+        prefer_nested(&mut cands);
         let accept = cands
             .first()
             .is_some_and(|c| c.score < 0.0 && c.rms <= (1.0 - required_gain(&c.effect)) * rms);

@@ -146,6 +146,8 @@ impl Prepared {
     pub fn new(rec: &crate::data::Record, k: usize) -> Prepared {
         let n = rec.len();
         let dt = rec.dt();
+        let xs = Self::despiked(&rec.x);
+        let xs = &xs;
         let (c1, c2) = sg_coefficients(k);
         let kernel = force_kernel(&c2);
         let mut v = vec![0.0; n];
@@ -153,7 +155,7 @@ impl Prepared {
         for i in k..n.saturating_sub(k) {
             let (mut sv, mut sa) = (0.0, 0.0);
             for (j, (p, q)) in c1.iter().zip(&c2).enumerate() {
-                let xi = rec.x[i + j - k];
+                let xi = xs[i + j - k];
                 sv += p * xi;
                 sa += q * xi;
             }
@@ -164,13 +166,13 @@ impl Prepared {
         // runs there too); no residual is formed there.
         for i in (0..k.min(n)).chain(n.saturating_sub(k)..n) {
             let (i0, i1) = if i + 1 < n { (i, i + 1) } else { (i - 1, i) };
-            v[i] = (rec.x[i1] - rec.x[i0]) / (rec.t[i1] - rec.t[i0]);
+            v[i] = (xs[i1] - xs[i0]) / (rec.t[i1] - rec.t[i0]);
         }
         let mut u_mid = rec.u.clone();
         for i in 1..n {
             u_mid[i] = 0.5 * (rec.u[i - 1] + rec.u[i]);
         }
-        let (q, n_rest) = Self::resolution_of(&rec.x);
+        let (q, n_rest) = Self::resolution_of(xs);
         // Where the position has not changed over the whole window, the
         // velocity is the encoder's "1/T" estimate: one count over the time
         // since the last count change, with that change's sign. It decays
@@ -178,12 +180,12 @@ impl Prepared {
         // position has stayed on its count for q/(v_rest·h) samples.
         let mut last_change: Option<(usize, f64)> = None;
         for i in 0..n {
-            if i > 0 && rec.x[i] != rec.x[i - 1] {
-                last_change = Some((i, (rec.x[i] - rec.x[i - 1]).signum()));
+            if i > 0 && xs[i] != xs[i - 1] {
+                last_change = Some((i, (xs[i] - xs[i - 1]).signum()));
             }
             let lo = i.saturating_sub(k);
             let hi = (i + k).min(n - 1);
-            if i >= k && i + k < n && rec.x[lo..=hi].iter().all(|&x| x == rec.x[i]) {
+            if i >= k && i + k < n && xs[lo..=hi].iter().all(|&x| x == xs[i]) {
                 v[i] = match last_change {
                     Some((j, sgn)) => sgn * q / (rec.t[i] - rec.t[j]),
                     None => q / (rec.t[i] - rec.t[0] + dt),
@@ -200,13 +202,13 @@ impl Prepared {
         let mut u_still = vec![0.0; n];
         let mut run = 0usize; // samples since the position last changed
         for i in 0..n {
-            run = if i > 0 && rec.x[i] == rec.x[i - 1] {
+            run = if i > 0 && xs[i] == xs[i - 1] {
                 run + 1
             } else {
                 0
             };
             // Position constant on i−k … i+k.
-            let ahead = (i + 1..=(i + k).min(n - 1)).all(|j| rec.x[j] == rec.x[i]);
+            let ahead = (i + 1..=(i + k).min(n - 1)).all(|j| xs[j] == xs[i]);
             if run >= k && i + k < n && ahead {
                 still[i] = true;
                 let lo = i.saturating_sub(2).max(i - run.min(i));
@@ -216,7 +218,7 @@ impl Prepared {
         }
         let mut p = Prepared {
             t: rec.t.clone(),
-            x: rec.x.clone(),
+            x: xs.clone(),
             u_mid,
             v,
             a,
@@ -236,6 +238,24 @@ impl Prepared {
         p.set_split();
         p.set_weights();
         p
+    }
+
+    /// The positions with single-sample encoder glitches removed: a sample
+    /// one count away from two equal neighbours (`x[i−1] = x[i+1] ≠ x[i]`)
+    /// takes their value. A real motion cannot leave a count and come back
+    /// within one sample at the speeds where friction is modelled, while
+    /// encoder jitter (an edge flickering on a count boundary) does exactly
+    /// that and would put a spike of `2q/h²` into the acceleration. The
+    /// record itself is not changed.
+    fn despiked(x: &[f64]) -> Vec<f64> {
+        let (q, _) = Self::resolution_of(x);
+        let mut out = x.to_vec();
+        for i in 1..x.len().saturating_sub(1) {
+            if x[i - 1] == x[i + 1] && x[i] != x[i - 1] && (x[i] - x[i - 1]).abs() <= 1.5 * q {
+                out[i] = x[i - 1];
+            }
+        }
+        out
     }
 
     /// Position resolution: the smallest position step of the record

@@ -17,9 +17,10 @@
 //! The selection is that of [`crate::diagnose`]: each missing candidate
 //! added and refitted ([`crate::fit::levenberg_marquardt`]), accepted when
 //! its held-out BIC is lower and its held-out RMS is lower by the
-//! candidate's required gain; a fit at a bound of its range is not a
-//! finding. One force reading per speed gives no noise estimate, so the
-//! floor is 0 and the gap is the held-out RMS itself.
+//! candidate's required gain, and only while the curve misses the data by
+//! more than [`NOISE_FACTOR`] times the readings' noise; a fit at a bound of
+//! its range is not a finding. The gap is the held-out RMS itself; the
+//! report gives the noise beside it.
 
 use crate::diagnose::{self, required_gain};
 use crate::fit::{self, FitOptions, Residuals, NV_EXP_RANGE};
@@ -27,6 +28,10 @@ use crate::reference::{stribeck, Asymmetry, Effects, Model, NonlinearViscous, Of
 use crate::static_curve::Point;
 use crate::Error;
 use std::path::Path;
+
+/// A steady-state curve whose held-out RMS is below this many times the
+/// readings' noise ([`SteadyRecord::noise`]) lacks nothing.
+pub const NOISE_FACTOR: f64 = 1.5;
 
 /// The effects a steady-state record can show, in the order tried.
 pub const STEADY_CANDIDATES: [&str; 4] = ["viscous", "nonlinear_viscous", "offset", "asymmetry"];
@@ -193,6 +198,31 @@ impl SteadyRecord {
         (s / n.max(1) as f64).sqrt()
     }
 
+    /// Noise of one reading [N] (N·m), from the data alone: the robust
+    /// spread of second differences of the force over neighbouring speeds
+    /// of one direction, `median|F_{i−1} − 2F_i + F_{i+1}|/(0.6745·√6)`
+    /// (the curve's own curvature between neighbours is small against the
+    /// readings' scatter at the speed spacing of such records).
+    pub fn noise(&self) -> f64 {
+        let mut d = Vec::new();
+        for dir in [1.0, -1.0] {
+            let mut pts: Vec<Point> = self
+                .points
+                .iter()
+                .copied()
+                .filter(|p| p.v * dir > 0.0)
+                .collect();
+            pts.sort_by(|a, b| a.v.abs().total_cmp(&b.v.abs()));
+            d.extend(
+                pts.windows(3)
+                    .map(|w| (w[0].tau - 2.0 * w[1].tau + w[2].tau).abs()),
+            );
+        }
+        d.sort_by(f64::total_cmp);
+        d.get(d.len() / 2)
+            .map_or(0.0, |m| m / (0.6745 * 6f64.sqrt()))
+    }
+
     fn count(&self, held_out: bool) -> usize {
         self.held_out.iter().filter(|h| **h == held_out).count()
     }
@@ -338,6 +368,8 @@ pub struct SteadyReport {
     pub dropped: Vec<(String, String)>,
     /// The final model.
     pub model: Model,
+    /// Noise of one reading [N] (N·m) ([`SteadyRecord::noise`]).
+    pub noise: f64,
 }
 
 fn with_effect(m: &Model, name: &str, rec: &SteadyRecord) -> Vec<Model> {
@@ -410,6 +442,7 @@ pub fn diagnose_steady(rec: &SteadyRecord) -> SteadyReport {
         dropped.push(("stribeck".to_string(), why));
     }
     let start = model.clone();
+    let noise = rec.noise();
     let n_held = rec.count(true).max(1) as f64;
     let bic = |rms: f64, k: usize| n_held * (rms * rms).max(1e-300).ln() + k as f64 * n_held.ln();
     let mut rms = rec.rms(&model, true);
@@ -438,8 +471,12 @@ pub fn diagnose_steady(rec: &SteadyRecord) -> SteadyReport {
         let summary: Vec<(String, f64, f64)> =
             cands.iter().map(|c| (c.0.clone(), c.1, c.2)).collect();
         match cands.into_iter().next() {
+            // Nothing is missing where the curve already fits to the noise
+            // of the readings (1.5 σ: a 5 % gain there is chance).
             Some((name, r, score, m))
-                if score < 0.0 && r <= (1.0 - required_gain(&name)) * rms =>
+                if score < 0.0
+                    && r <= (1.0 - required_gain(&name)) * rms
+                    && rms > NOISE_FACTOR * noise =>
             {
                 steps.push(SteadyStep {
                     effect: name,
@@ -467,6 +504,7 @@ pub fn diagnose_steady(rec: &SteadyRecord) -> SteadyReport {
         rejected,
         dropped,
         model,
+        noise,
     }
 }
 
@@ -530,10 +568,10 @@ pub fn report_json(rep: &SteadyReport) -> String {
     let v = json!({
         "kind": "steady_state",
         "effects_added": rep.steps.iter().map(|s| s.effect.clone()).collect::<Vec<_>>(),
-        "metric": "held-out RMS of F_measured - F(v) over the points with index 2, 5, 8 mod 10 (steady-state record: no dynamics, no noise estimate, floor 0); mass and z_max are not identifiable from it",
+        "metric": "held-out RMS of F_measured - F(v) over the points with index 2, 5, 8 mod 10 (steady-state record: no dynamics; floor = the readings' noise from second differences over neighbouring speeds); mass and z_max are not identifiable from it",
         "rms_before": rep.rms_before,
         "rms_after": rep.rms_after,
-        "floor": 0.0,
+        "floor": rep.noise,
         "steps": steps,
         "rejected": rep.rejected.iter().map(|c| json!({"effect": c.0, "rms": c.1, "score": c.2})).collect::<Vec<_>>(),
         "dropped": rep.dropped.iter().map(|(n, why)| json!({"part": n, "reason": why})).collect::<Vec<_>>(),
