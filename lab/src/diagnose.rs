@@ -147,6 +147,8 @@ pub struct RegimeStat {
 pub struct Report {
     /// Samples, interval, resolution.
     pub n: usize,
+    /// Savitzky–Golay half-width used (samples).
+    pub half_width: usize,
     /// Median sampling interval [s].
     pub dt: f64,
     /// Position resolution [m].
@@ -276,7 +278,7 @@ fn quantile(v: &mut [f64], q: f64) -> f64 {
 /// equations, Gauss–Jordan with partial pivoting); `None` when singular or
 /// not finite. Also used by `static_curve`.
 #[allow(clippy::needless_range_loop)] // dense Gauss–Jordan on a small matrix
-pub(crate) fn lstsq(cols: &[Vec<f64>], b: &[f64]) -> Option<Vec<f64>> {
+pub fn lstsq(cols: &[Vec<f64>], b: &[f64]) -> Option<Vec<f64>> {
     let n = cols.len();
     let mut a = vec![vec![0.0; n + 1]; n];
     for i in 0..n {
@@ -1354,6 +1356,7 @@ pub fn diagnose(
         pruned,
         swapped,
         n: p.len(),
+        half_width: p.k,
         dt: p.dt,
         resolution: p.resolution,
         given,
@@ -1482,6 +1485,7 @@ pub fn report_json(rep: &Report) -> String {
         "start_model": model_json(&rep.start),
         "model": model_json(&rep.model),
         "samples": rep.n,
+        "window": rep.half_width,
         "dt": rep.dt,
         "resolution": rep.resolution,
     });
@@ -1501,10 +1505,11 @@ pub fn report_text(rep: &Report, source: &str) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "{source}: {} samples, dt = {} s, position resolution {} m",
+        "{source}: {} samples, dt = {} s, position resolution {} m, window ±{} samples",
         rep.n,
         short(rep.dt, 4),
-        short(rep.resolution, 3)
+        short(rep.resolution, 3),
+        rep.half_width
     );
     let _ = writeln!(s, "residual: force along the measured motion (MODEL.md §8: compared locally), held-out time blocks 2, 5, 8 of 10");
     let _ = writeln!(

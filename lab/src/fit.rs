@@ -56,6 +56,90 @@ pub const REST_COUNT_RATE: f64 = 0.02;
 
 /// Default half-width `k` of the Savitzky–Golay window (samples).
 pub const DEFAULT_HALF_WIDTH: usize = 5;
+/// Half-width [`auto_window`] starts from (samples). Shorter windows blur
+/// the motion least: on the independent example records the true model's
+/// residual is at the noise-and-resolution floor with `k = 3, 4`, and
+/// 0.01–0.05 N above it with `k = 5` (smoothing bias, which the floor does
+/// not contain).
+pub const AUTO_HALF_WIDTH: usize = 4;
+
+/// Largest half-width [`auto_window`] chooses.
+pub const MAX_AUTO_HALF_WIDTH: usize = 12;
+
+/// Ratio of the quantisation noise of `m·â` to the filtered force noise up
+/// to which [`auto_window`] keeps [`AUTO_HALF_WIDTH`].
+pub const MAX_QUANTISATION_RATIO: f64 = 100.0;
+
+/// The Savitzky–Golay half-width for `rec`, from the data alone.
+///
+/// A correct model's residual has two noise parts at half-width `k`: the
+/// force noise filtered by the force kernel, `σ_f·‖W_k‖`, and the encoder
+/// quantisation of `m·â`, `m·(q/√12)·‖c2_k‖/h²`, which falls like
+/// `k^−2.5`. A heavy axis with a fine encoder and a clean force signal can
+/// have the second a thousand times the first: then no effect stands out.
+/// The window starts at [`AUTO_HALF_WIDTH`] and grows, up to
+/// [`MAX_AUTO_HALF_WIDTH`], only while the ratio exceeds
+/// [`MAX_QUANTISATION_RATIO`] (a longer window also blurs the motion, a
+/// bias the floor does not contain). `m` comes from a linear least-squares
+/// fit of `ū = m·â + Fc·sgn(v̂)` on the faster half of the moving samples,
+/// `σ_f` from that fit's residual. Deterministic per record, independent of
+/// any model.
+pub fn auto_window(rec: &crate::data::Record) -> usize {
+    let p = Prepared::new(rec, DEFAULT_HALF_WIDTH);
+    let mut speeds: Vec<f64> = p
+        .valid()
+        .filter(|&i| !p.still[i])
+        .map(|i| p.v[i].abs())
+        .collect();
+    speeds.sort_by(f64::total_cmp);
+    let Some(&v_med) = speeds.get(speeds.len() / 2) else {
+        return AUTO_HALF_WIDTH;
+    };
+    let fast: Vec<usize> = p
+        .valid()
+        .filter(|&i| !p.still[i] && p.v[i].abs() >= v_med)
+        .collect();
+    let sgn: Vec<f64> = p.v.iter().map(|v| v.signum()).collect();
+    let col_a: Vec<f64> = fast.iter().map(|&i| p.a[i]).collect();
+    let col_s: Vec<f64> = fast.iter().map(|&i| p.filter_at(&sgn, i)).collect();
+    let b: Vec<f64> = fast.iter().map(|&i| p.filter_at(&p.u_mid, i)).collect();
+    let Some(c) = crate::diagnose::lstsq(&[col_a, col_s], &b) else {
+        return AUTO_HALF_WIDTH;
+    };
+    let (mass, fc) = (c[0], c[1]);
+    if !(mass.is_finite() && mass > 0.0 && fc.is_finite() && fc > 0.0) {
+        return AUTO_HALF_WIDTH;
+    }
+    let m = Model {
+        mass,
+        fc,
+        fs: fc,
+        v_stribeck: v_med,
+        delta: 1.0,
+        sigma: 0.0,
+        z_max: 0.0,
+        epsilon: 0.0,
+        effects: Default::default(),
+    };
+    let r = p.residual(&m);
+    let mut probe = p.clone();
+    let sigma0 = probe.set_error_weights(&m, &r);
+    let w_norm = |k: usize| {
+        let (_, c2) = sg_coefficients(k);
+        force_kernel(&c2).iter().map(|w| w * w).sum::<f64>().sqrt()
+    };
+    let sigma_f = sigma0 / w_norm(DEFAULT_HALF_WIDTH);
+    let q = p.resolution / 12f64.sqrt();
+    let ratio = |k: usize| {
+        let (_, c2) = sg_coefficients(k);
+        let c2n = c2.iter().map(|c| c * c).sum::<f64>().sqrt();
+        mass * q * c2n / (p.dt * p.dt) / (sigma_f * w_norm(k)).max(1e-300)
+    };
+    (AUTO_HALF_WIDTH..=MAX_AUTO_HALF_WIDTH)
+        .find(|&k| ratio(k) <= MAX_QUANTISATION_RATIO)
+        .unwrap_or(MAX_AUTO_HALF_WIDTH)
+}
+
 /// Number of time blocks of the split.
 pub const BLOCKS: usize = 10;
 /// Held-out blocks (0-based).

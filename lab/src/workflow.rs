@@ -76,8 +76,8 @@ pub enum Command {
         model_out: Option<PathBuf>,
         /// Candidate filter.
         candidates: Vec<String>,
-        /// SG half-width.
-        window: usize,
+        /// SG half-width (`None`: chosen from the data, [`fit::auto_window`]).
+        window: Option<usize>,
     },
     /// `fit`.
     Fit {
@@ -89,8 +89,8 @@ pub enum Command {
         model_out: Option<PathBuf>,
         /// JSON on stdout.
         json: bool,
-        /// SG half-width.
-        window: usize,
+        /// SG half-width (`None`: chosen from the data, [`fit::auto_window`]).
+        window: Option<usize>,
     },
     /// `validate`.
     Validate {
@@ -100,8 +100,8 @@ pub enum Command {
         model: PathBuf,
         /// JSON on stdout.
         json: bool,
-        /// SG half-width.
-        window: usize,
+        /// SG half-width (`None`: chosen from the data, [`fit::auto_window`]).
+        window: Option<usize>,
     },
     /// `synth`.
     Synth {
@@ -217,9 +217,9 @@ pub fn parse(args: &[String]) -> Result<Command, Error> {
     let flag = |name: &str| opts.iter().any(|(n, _)| n == name);
     let path = |name: &str| get(name).map(PathBuf::from);
     let window = match get("--window") {
-        None => fit::DEFAULT_HALF_WIDTH,
+        None => None,
         Some(s) => match s.parse::<usize>() {
-            Ok(k) if (2..=50).contains(&k) => k,
+            Ok(k) if (2..=50).contains(&k) => Some(k),
             _ => return Err(usage(format!("--window: `{s}` is not an integer in 2..50"))),
         },
     };
@@ -367,8 +367,20 @@ fn not_input(out: &Path, inputs: &[&Path]) -> Result<(), Error> {
     Ok(())
 }
 
-fn load_data(path: &Path, window: usize) -> Result<Record, Error> {
+fn load_data(path: &Path, window: Option<usize>) -> Result<(Record, usize), Error> {
     let rec = data::load(path)?;
+    let min_window = window.unwrap_or(fit::DEFAULT_HALF_WIDTH);
+    if rec.len() < 20 * min_window + 20 {
+        return Err(Error::Runtime(format!(
+            "{}: too few samples: {} for a window of {min_window} (need at least {})",
+            path.display(),
+            rec.len(),
+            20 * min_window + 20
+        )));
+    }
+    let window = window.unwrap_or_else(|| {
+        fit::auto_window(&rec).min((rec.len().saturating_sub(20) / 20).max(min_window))
+    });
     if rec.len() < 20 * window + 20 {
         return Err(Error::Runtime(format!(
             "{}: too few samples: {} for a window of {window} (need at least {})",
@@ -377,7 +389,7 @@ fn load_data(path: &Path, window: usize) -> Result<Record, Error> {
             20 * window + 20
         )));
     }
-    Ok(rec)
+    Ok((rec, window))
 }
 
 /// Runs a parsed command.
@@ -420,7 +432,7 @@ pub fn run(cmd: Command, out: &mut dyn Write) -> Result<(), Error> {
             json,
             window,
         } => {
-            let rec = load_data(&data, window)?;
+            let (rec, window) = load_data(&data, window)?;
             let start = model.as_deref().map(load_model).transpose()?;
             if let Some(o) = &model_out {
                 let mut inputs = vec![data.as_path()];
@@ -474,7 +486,7 @@ pub fn run(cmd: Command, out: &mut dyn Write) -> Result<(), Error> {
             json,
             window,
         } => {
-            let rec = load_data(&data, window)?;
+            let (rec, window) = load_data(&data, window)?;
             let m = load_model(&model)?;
             let mut p = Prepared::new(&rec, window);
             let r0 = p.residual(&m);
@@ -551,7 +563,7 @@ pub fn run(cmd: Command, out: &mut dyn Write) -> Result<(), Error> {
                     &crate::steady::report_text(&rep, &data.display().to_string()),
                 );
             }
-            let rec = load_data(&data, window)?;
+            let (rec, window) = load_data(&data, window)?;
             let start = model.as_deref().map(load_model).transpose()?;
             let opts = Options {
                 half_width: window,

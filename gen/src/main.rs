@@ -1,0 +1,362 @@
+//! `breakaway-gen`: writes test records (`data.csv`, `truth.toml`,
+//! `truth.json`) for the discrepancy workflow.
+//!
+//! ```text
+//! breakaway-gen record --seed N [--family F] [--plant P] [--effects a,b] [--kind K] --out DIR
+//! breakaway-gen suite --seeds A..B [--kind model|outside|steady|mixed] [--jobs J] --out DIR
+//! ```
+//!
+//! Exit codes: 0 done, 1 a record could not be generated or written, 2 bad
+//! command line.
+
+// Units are written in square brackets ([m], [N], [s]); they are not links.
+#![allow(rustdoc::broken_intra_doc_links)]
+
+use breakaway_gen::draw::{Kind, Overrides};
+use breakaway_gen::excite::Family;
+use breakaway_gen::friction::Effect;
+use breakaway_gen::plants::PlantKind;
+use breakaway_gen::record::{self, Generated};
+use breakaway_gen::write;
+use clap::{Parser, Subcommand};
+use std::io::{IsTerminal, Write};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
+use std::time::Instant;
+
+#[derive(Parser)]
+#[command(
+    name = "breakaway-gen",
+    version,
+    about = "Independent generator of friction test records (MODEL.md §6 CSV + §7 truth)"
+)]
+struct Cli {
+    #[command(subcommand)]
+    cmd: Cmd,
+}
+
+#[derive(Subcommand)]
+enum Cmd {
+    /// Write one record: DIR/data.csv, DIR/truth.toml, DIR/truth.json.
+    Record {
+        /// Seed (the record depends on it alone, and on the overrides).
+        #[arg(long)]
+        seed: u64,
+        /// Family: servo, velocity_loop, point_to_point, ramps, sinusoid, steady (drawn when absent).
+        #[arg(long)]
+        family: Option<String>,
+        /// Plant: model, lugre, maxwell_slip, compliant, noisy_velocity (drawn when absent).
+        #[arg(long)]
+        plant: Option<String>,
+        /// Hidden effects, comma-separated catalogue names, or `none`; steady
+        /// records also take `stribeck-absent` (drawn when absent).
+        #[arg(long)]
+        effects: Option<String>,
+        /// What to draw from when family/plant are absent: model, outside, steady, mixed.
+        #[arg(long, default_value = "mixed")]
+        kind: String,
+        /// Record length [s] (default: drawn, 20–40 s).
+        #[arg(long)]
+        duration: Option<f64>,
+        /// Output directory.
+        #[arg(long)]
+        out: PathBuf,
+    },
+    /// Write one record per seed: DIR/<name>/{data.csv,truth.toml,truth.json} and DIR/index.json.
+    Suite {
+        /// Seeds `A..B` (B excluded), `A..=B`, or one seed.
+        #[arg(long)]
+        seeds: String,
+        /// model, outside, steady or mixed.
+        #[arg(long, default_value = "mixed")]
+        kind: String,
+        /// Worker threads (default: the available cores).
+        #[arg(long)]
+        jobs: Option<usize>,
+        /// Output directory.
+        #[arg(long)]
+        out: PathBuf,
+    },
+}
+
+/// Prints a line to stdout, ignoring a closed pipe.
+fn say(line: &str) {
+    let mut o = std::io::stdout().lock();
+    let _ = writeln!(o, "{line}");
+}
+
+/// One suite record: its summary line and truth JSON, or why it failed.
+type Outcome = Result<(String, serde_json::Value), String>;
+
+/// A command-line error (exit code 2).
+struct Usage(String);
+
+fn parse_kind(s: &str) -> Result<Kind, Usage> {
+    Kind::from_name(s).ok_or_else(|| {
+        Usage(format!(
+            "unknown kind `{s}` (expected model, outside, steady or mixed)"
+        ))
+    })
+}
+
+/// Most seeds one suite may hold.
+const MAX_SEEDS: u64 = 1_000_000;
+
+fn parse_seeds(s: &str) -> Result<Vec<u64>, Usage> {
+    let bad = || {
+        Usage(format!(
+            "bad --seeds `{s}`: expected A..B (B excluded), A..=B or a single seed"
+        ))
+    };
+    let num = |t: &str| t.trim().parse::<u64>().map_err(|_| bad());
+    let (a, b) = if let Some((a, b)) = s.split_once("..=") {
+        let (a, b) = (num(a)?, num(b)?);
+        if b < a || b == u64::MAX {
+            return Err(bad());
+        }
+        (a, b + 1)
+    } else if let Some((a, b)) = s.split_once("..") {
+        let (a, b) = (num(a)?, num(b)?);
+        if b <= a {
+            return Err(bad());
+        }
+        (a, b)
+    } else {
+        let a = num(s)?;
+        if a == u64::MAX {
+            return Err(bad());
+        }
+        (a, a + 1)
+    };
+    if b - a > MAX_SEEDS {
+        return Err(Usage(format!(
+            "--seeds `{s}` names {} seeds; at most {MAX_SEEDS} per suite",
+            b - a
+        )));
+    }
+    Ok((a..b).collect())
+}
+
+fn parse_effects(s: &str) -> Result<(Vec<Effect>, bool), Usage> {
+    let mut out = Vec::new();
+    let mut absent = false;
+    for t in s.split(',').map(str::trim).filter(|t| !t.is_empty()) {
+        if t == "none" || t == "null" {
+            continue;
+        }
+        if t == "stribeck-absent" || t == "stribeck_absent" {
+            absent = true;
+            continue;
+        }
+        let e = Effect::from_name(t).ok_or_else(|| {
+            Usage(format!(
+                "unknown effect `{t}` (expected {}, stribeck-absent or none)",
+                Effect::ALL.map(|e| e.name()).join(", ")
+            ))
+        })?;
+        if out.contains(&e) {
+            return Err(Usage(format!("effect `{t}` given twice")));
+        }
+        out.push(e);
+    }
+    Ok((out, absent))
+}
+
+fn summary_line(g: &Generated, secs: f64) -> String {
+    let d = &g.draw;
+    let vis = if d.hidden.is_empty() {
+        if d.stribeck_absent {
+            "stribeck-absent".to_string()
+        } else {
+            "-".to_string()
+        }
+    } else {
+        d.hidden
+            .iter()
+            .zip(&g.visibility)
+            .map(|(e, v)| format!("{}={:.1}", e.name(), v))
+            .collect::<Vec<_>>()
+            .join(",")
+    };
+    format!(
+        "{:<44} {:<15} {:<14} {:<40} Π={:<6.2} noise={:.3e} N  {:.2} s",
+        g.name(),
+        d.family.name(),
+        d.plant.name(),
+        vis,
+        d.pi(),
+        d.noise_std,
+        secs
+    )
+}
+
+fn record_cmd(
+    seed: u64,
+    family: Option<String>,
+    plant: Option<String>,
+    effects: Option<String>,
+    kind: &str,
+    duration: Option<f64>,
+    out: &Path,
+) -> Result<Result<(), String>, Usage> {
+    let kind = parse_kind(kind)?;
+    let mut ov = Overrides::default();
+    if let Some(f) = family {
+        ov.family = Some(Family::from_name(&f).ok_or_else(|| {
+            Usage(format!(
+                "unknown family `{f}` (expected {})",
+                Family::ALL.map(|f| f.name()).join(", ")
+            ))
+        })?);
+    }
+    if let Some(p) = plant {
+        ov.plant = Some(PlantKind::from_name(&p).ok_or_else(|| {
+            Usage(format!(
+                "unknown plant `{p}` (expected {})",
+                PlantKind::ALL.map(|p| p.name()).join(", ")
+            ))
+        })?);
+    }
+    if let Some(e) = effects {
+        let (list, absent) = parse_effects(&e)?;
+        ov.effects = Some(list);
+        ov.stribeck_absent = Some(absent);
+    }
+    if let Some(d) = duration {
+        if !(d.is_finite() && (1.0..=600.0).contains(&d)) {
+            return Err(Usage(format!("bad --duration {d}: expected 1 … 600 s")));
+        }
+        ov.duration = Some(d);
+    }
+    // Inconsistent overrides are command-line errors.
+    breakaway_gen::draw::draw(seed, 0, kind, &ov).map_err(Usage)?;
+    let t0 = Instant::now();
+    Ok(record::generate(seed, kind, &ov).and_then(|g| {
+        write::write(&g, out)?;
+        say(&summary_line(&g, t0.elapsed().as_secs_f64()));
+        say(&format!("wrote {}", out.display()));
+        Ok(())
+    }))
+}
+
+fn suite_cmd(
+    seeds: &str,
+    kind: &str,
+    jobs: Option<usize>,
+    out: &Path,
+) -> Result<Result<(), String>, Usage> {
+    let seeds = parse_seeds(seeds)?;
+    let kind = parse_kind(kind)?;
+    let jobs = match jobs {
+        Some(0) => return Err(Usage("--jobs must be at least 1".into())),
+        Some(j) => j,
+        None => std::thread::available_parallelism().map_or(2, |n| n.get()),
+    }
+    .min(seeds.len());
+    if let Err(e) = std::fs::create_dir_all(out) {
+        return Ok(Err(format!("{}: cannot create: {e}", out.display())));
+    }
+    let bar = if std::io::stderr().is_terminal() {
+        let b = indicatif::ProgressBar::new(seeds.len() as u64);
+        if let Ok(st) = indicatif::ProgressStyle::with_template(
+            "{bar:40} {pos}/{len} records  {elapsed_precise} (eta {eta})",
+        ) {
+            b.set_style(st);
+        }
+        b
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
+    let next = AtomicUsize::new(0);
+    let results: Mutex<Vec<(u64, Outcome)>> = Mutex::new(Vec::new());
+    let t_all = Instant::now();
+    std::thread::scope(|s| {
+        for _ in 0..jobs {
+            s.spawn(|| loop {
+                let i = next.fetch_add(1, Ordering::SeqCst);
+                let Some(&seed) = seeds.get(i) else { break };
+                let t0 = Instant::now();
+                let r = record::generate(seed, kind, &Overrides::default()).and_then(|g| {
+                    let dir = out.join(g.name());
+                    write::write(&g, &dir)?;
+                    Ok((
+                        summary_line(&g, t0.elapsed().as_secs_f64()),
+                        write::truth_json(&g),
+                    ))
+                });
+                if let Ok(mut v) = results.lock() {
+                    v.push((seed, r));
+                }
+                bar.inc(1);
+            });
+        }
+    });
+    bar.finish_and_clear();
+    let mut results = results.into_inner().unwrap_or_default();
+    results.sort_by_key(|(s, _)| *s);
+    let mut index = Vec::new();
+    let mut failed = Vec::new();
+    for (seed, r) in &results {
+        match r {
+            Ok((line, json)) => {
+                say(line);
+                index.push(json.clone());
+            }
+            Err(e) => {
+                eprintln!("seed {seed}: {e}");
+                failed.push(*seed);
+            }
+        }
+    }
+    let idx = out.join("index.json");
+    let text = serde_json::to_string_pretty(&index).unwrap_or_default();
+    if let Err(e) = std::fs::write(&idx, text + "\n") {
+        return Ok(Err(format!("{}: cannot write: {e}", idx.display())));
+    }
+    say(&format!(
+        "{} records in {:.1} s ({} jobs) -> {}",
+        index.len(),
+        t_all.elapsed().as_secs_f64(),
+        jobs,
+        out.display()
+    ));
+    if failed.is_empty() {
+        Ok(Ok(()))
+    } else {
+        Ok(Err(format!("{} seed(s) failed: {failed:?}", failed.len())))
+    }
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let r = match cli.cmd {
+        Cmd::Record {
+            seed,
+            family,
+            plant,
+            effects,
+            kind,
+            duration,
+            out,
+        } => record_cmd(seed, family, plant, effects, &kind, duration, &out),
+        Cmd::Suite {
+            seeds,
+            kind,
+            jobs,
+            out,
+        } => suite_cmd(&seeds, &kind, jobs, &out),
+    };
+    match r {
+        Err(Usage(msg)) => {
+            eprintln!("breakaway-gen: error: {msg}");
+            ExitCode::from(2)
+        }
+        Ok(Err(msg)) => {
+            eprintln!("breakaway-gen: error: {msg}");
+            ExitCode::from(1)
+        }
+        Ok(Ok(())) => ExitCode::SUCCESS,
+    }
+}
