@@ -173,11 +173,13 @@ pub struct Prepared {
     pub v_rest: f64,
     /// Sampling interval [s] (median).
     pub dt: f64,
-    /// Still samples: the position did not change over the whole window
-    /// `i−k … i+k`. There the force balance gives the friction itself
-    /// (`F = ū`, `â = 0`), while the presliding state at a quantised position
-    /// is not observable; the model's memory is re-anchored at the measured
-    /// force ([`Prepared::friction`]) and the sample carries no weight.
+    /// Still samples: the position stays within one encoder count over the
+    /// whole window `i−k … i+k` (at rest, dithering on a count boundary, or
+    /// creeping by at most a count). There the force balance gives the
+    /// friction itself (`F = ū − m·â`, `â ≈ 0`), while the presliding state
+    /// at a quantised position is not observable; the model's memory is
+    /// re-anchored at the measured force ([`Prepared::friction`]) and the
+    /// sample carries no weight.
     pub still: Vec<bool>,
     /// Measured force at still samples [N]: mean of `ū` over the last three
     /// samples of the still run (0 elsewhere).
@@ -284,19 +286,18 @@ impl Prepared {
         let v_rest = REST_COUNT_RATE * q / dt;
         let mut still = vec![false; n];
         let mut u_still = vec![0.0; n];
-        let mut run = 0usize; // samples since the position last changed
-        for i in 0..n {
-            run = if i > 0 && xs[i] == xs[i - 1] {
-                run + 1
-            } else {
-                0
-            };
-            // Position constant on i−k … i+k.
-            let ahead = (i + 1..=(i + k).min(n - 1)).all(|j| xs[j] == xs[i]);
-            if run >= k && i + k < n && ahead {
+        for i in k..n.saturating_sub(k) {
+            // The position stays within one encoder count on i−k … i+k:
+            // at rest, or dithering on a count boundary, or creeping by at
+            // most one count per window (|v| < q/(2k·h), |a| ≈ 0).
+            let (lo, hi) = xs[i - k..=i + k]
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+                    (a.min(x), b.max(x))
+                });
+            if hi - lo <= 1.5 * q {
                 still[i] = true;
-                let lo = i.saturating_sub(2).max(i - run.min(i));
-                let span = &u_mid[lo..=i];
+                let span = &u_mid[i.saturating_sub(2)..=i];
                 u_still[i] = span.iter().sum::<f64>() / span.len() as f64;
             }
         }

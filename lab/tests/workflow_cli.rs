@@ -351,8 +351,9 @@ fn static_curve_indy7_joint1() {
     }
 }
 
-/// The EMPS benchmark record (real data): `diagnose` names viscous friction
-/// and an offset, and the fitted mass is within 2 % of the published one.
+/// The EMPS benchmark record (real data): `diagnose` names velocity
+/// strengthening and an offset or asymmetry, writes no parameter at a bound,
+/// halves the gap, and the fitted mass is within 2 % of the published one.
 #[test]
 fn emps_real_data() {
     let f = concat!(
@@ -373,10 +374,23 @@ fn emps_real_data() {
         .iter()
         .map(|e| e.as_str().unwrap())
         .collect();
+    // Velocity strengthening (the data prefer n ≈ 0.64 to n = 1: a model
+    // fitted on the first half holds better on the second, see
+    // lab/README.md) and a level shift between the directions.
     assert!(
-        added.contains(&"viscous") && added.contains(&"offset"),
+        (added.contains(&"viscous") || added.contains(&"nonlinear_viscous"))
+            && (added.contains(&"offset") || added.contains(&"asymmetry")),
         "{added:?}"
     );
+    // No parameter at a bound or non-physical in the written model.
+    let m = &v["model"];
+    let delta = m["delta"].as_f64().unwrap();
+    assert!(delta > 0.31 && delta < 3.9, "delta {delta}");
+    let vs = m["v_stribeck"].as_f64().unwrap();
+    assert!(vs > 1e-6 && vs < 1.0, "v_stribeck {vs}");
+    if let Some(n) = m["effects"]["nonlinear_viscous"]["n"].as_f64() {
+        assert!(n > 0.06 && n < 1.95 && (n - 1.0).abs() > 0.1, "n {n}");
+    }
     let mass = v["model"]["mass"].as_f64().unwrap();
     assert!((mass - 95.1089).abs() < 0.02 * 95.1089, "mass {mass}");
     assert!(v["rms_after"].as_f64().unwrap() < 0.5 * v["rms_before"].as_f64().unwrap());

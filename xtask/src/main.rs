@@ -251,6 +251,9 @@ fn test() -> Result<(), String> {
         .args(["doc", "-p", "breakaway", "--no-deps"])
         .env("RUSTDOCFLAGS", "-D warnings"))?;
     run(cargo().args(["test", "--workspace"]))?;
+    // The discrepancy workflow on a small fixed subset of the independent
+    // generator's records (the full sweep: `cargo xtask sweep`).
+    sweep::smoke()?;
     // On-target checks under QEMU against the host f64 reference.
     for line in checks::all()? {
         println!("on-target: {line}");
