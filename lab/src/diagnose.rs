@@ -1151,6 +1151,14 @@ pub fn diagnose(
     // every figure compared below uses them.
     let r0 = p.residual(&model);
     p.set_error_weights(&model, &r0);
+    if start.is_none() {
+        // The base model was identified with class weights only: refit it
+        // once with error weights and take the weights from that fit.
+        let params = fit::params_of(&model);
+        model = fit::fit(&p, &model, &params, &FitOptions::default(), &mut |_| {}).model;
+        let r1 = p.residual(&model);
+        p.set_error_weights(&model, &r1);
+    }
     let floor = p.floor(Some(true));
     let given = start.map(|m| fit::model_error(held_rms(&p, m).0, floor));
     show("refitting with error weights");

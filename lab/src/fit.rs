@@ -500,7 +500,9 @@ impl Prepared {
             let a = self.filter_at(&sx, i).abs();
             let b = self.filter_at(&sv, i).abs();
             let acc = if curved[i] { var_acc } else { 0.0 };
-            let var = sigma0 * sigma0 + acc + q2 * a * a + sigma_v2 * b * b;
+            // Neither term can exceed the friction's whole range.
+            let cap = (2.0 * m.fs.max(m.fc)).powi(2);
+            let var = sigma0 * sigma0 + acc + (q2 * a * a).min(cap) + (sigma_v2 * b * b).min(cap);
             self.var[i] = var;
             self.weight[i] *= sigma0 * sigma0 / var;
         }
@@ -860,8 +862,11 @@ fn set(m: &mut Model, p: Param, th: f64, t_span: f64) {
             m.fc = th.clamp(-200.0, 200.0).exp();
             m.fs = m.fc + excess.max(0.0);
         }
-        Param::FsExcess => m.fs = m.fc + th.clamp(-200.0, 200.0).exp(),
-        Param::VStribeck => m.v_stribeck = th.clamp(-200.0, 200.0).exp(),
+        // Fs ≤ 11·Fc and V ≥ 1 nm/s: beyond, the curve is a spike at v = 0
+        // that no record resolves (a base fit once ran to Fs = 7e86 N with
+        // V = 1e-87 m/s).
+        Param::FsExcess => m.fs = m.fc + th.clamp(-200.0, 200.0).exp().min(10.0 * m.fc),
+        Param::VStribeck => m.v_stribeck = th.clamp(-200.0, 200.0).exp().max(1e-9),
         Param::Delta => {
             let u = 1.0 / (1.0 + (-th.clamp(-40.0, 40.0)).exp());
             m.delta = DELTA_RANGE.0 + (DELTA_RANGE.1 - DELTA_RANGE.0) * u;
