@@ -295,10 +295,7 @@ pub fn write_csv(path: &Path, rec: &Record, comments: &[String]) -> Result<(), E
 /// line with columns `v` [m/s or rad/s] and `u` [N or N·m] in any order
 /// (others ignored), `#` comments; one force reading per speed. Needs at
 /// least 5 points; every error names the line and column.
-pub fn parse_steady_csv(
-    text: &str,
-    path: &Path,
-) -> Result<Vec<crate::static_curve::Point>, Error> {
+pub fn parse_steady_csv(text: &str, path: &Path) -> Result<Vec<crate::static_curve::Point>, Error> {
     let mut lines = text
         .lines()
         .enumerate()

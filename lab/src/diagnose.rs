@@ -1168,7 +1168,9 @@ pub fn diagnose(
         // A local minimum with V → 0 or δ at a bound: restart the shape
         // from the data's low speeds before calling Stribeck absent.
         let starts = restarts(&p, &model);
-        let again = fit_multistart(&p, &starts, &mut |s| show(&format!("restarting the base fit ({s})")));
+        let again = fit_multistart(&p, &starts, &mut |s| {
+            show(&format!("restarting the base fit ({s})"))
+        });
         if held_rms(&p, &again).0 < held_rms(&p, &model).0 {
             model = again;
         }
@@ -1441,10 +1443,9 @@ pub fn effect_params(m: &Model, name: &str) -> serde_json::Value {
         ),
         "frictional_lag" => json!({"tau_l": e.frictional_lag.map(|l| l.tau_l)}),
         "drift" => json!({"beta": e.drift.map(|d| d.beta)}),
-        "nonlinear_viscous" => e.nonlinear_viscous.map_or(
-            json!({}),
-            |nv| json!({"sigma_n": nv.sigma_n, "n": nv.n}),
-        ),
+        "nonlinear_viscous" => e
+            .nonlinear_viscous
+            .map_or(json!({}), |nv| json!({"sigma_n": nv.sigma_n, "n": nv.n})),
         _ => json!({}),
     }
 }

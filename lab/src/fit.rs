@@ -846,8 +846,8 @@ fn get(m: &Model, p: Param, t_span: f64) -> f64 {
         Param::SigmaN => e.nonlinear_viscous.map_or(0.0, |nv| nv.sigma_n),
         Param::NvExp => {
             let n = e.nonlinear_viscous.map_or(0.5, |nv| nv.n);
-            let u = ((n - NV_EXP_RANGE.0) / (NV_EXP_RANGE.1 - NV_EXP_RANGE.0))
-                .clamp(1e-6, 1.0 - 1e-6);
+            let u =
+                ((n - NV_EXP_RANGE.0) / (NV_EXP_RANGE.1 - NV_EXP_RANGE.0)).clamp(1e-6, 1.0 - 1e-6);
             (u / (1.0 - u)).ln()
         }
     }

@@ -373,10 +373,7 @@ pub struct SteadyReport {
 }
 
 fn with_effect(m: &Model, name: &str, rec: &SteadyRecord) -> Vec<Model> {
-    let v_max = rec
-        .points
-        .iter()
-        .fold(1e-12f64, |a, p| a.max(p.v.abs()));
+    let v_max = rec.points.iter().fold(1e-12f64, |a, p| a.max(p.v.abs()));
     let mut out = Vec::new();
     let mut c = m.clone();
     match name {
@@ -423,10 +420,9 @@ fn degenerate(m: &Model, name: &str) -> Option<String> {
                 None
             }
         }),
-        "stribeck" if fit::has_effect(m, "stribeck") => {
-            (near(m.delta, fit::DELTA_RANGE.0) || near(m.delta, fit::DELTA_RANGE.1))
-                .then(|| format!("delta = {:.4} at a bound of its range", m.delta))
-        }
+        "stribeck" if fit::has_effect(m, "stribeck") => (near(m.delta, fit::DELTA_RANGE.0)
+            || near(m.delta, fit::DELTA_RANGE.1))
+        .then(|| format!("delta = {:.4} at a bound of its range", m.delta)),
         _ => None,
     }
 }

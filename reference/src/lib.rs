@@ -28,8 +28,7 @@ pub use curves::{shape, steady_state, stribeck};
 pub use friction::Friction;
 pub use model::{
     Asymmetry, Drift, DwellStiction, Effects, FrictionalLag, Model, ModelError, NonlinearViscous,
-    Offset,
-    PositionRipple,
+    Offset, PositionRipple,
 };
 pub use predict::{
     consistent_root, phase_velocity, predict_break_away, BreakAway, PredictError, Variant,
