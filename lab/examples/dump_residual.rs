@@ -35,7 +35,7 @@ fn main() {
     eprintln!("sigma0 {s0}, floor {}", p.floor(None));
     let r = p.residual(&model);
     println!("t,x,v,u,still,weight,var,r");
-    for i in 0..p.len() {
+    for (i, ri) in r.iter().enumerate() {
         println!(
             "{},{},{},{},{},{},{},{}",
             p.t[i],
@@ -45,7 +45,7 @@ fn main() {
             u8::from(p.still[i]),
             p.weight[i],
             p.var[i],
-            r[i]
+            ri
         );
     }
 }

@@ -1302,9 +1302,9 @@ pub fn diagnose(
     // (the two next best) when one gives a lower held-out BIC.
     let mut swapped = Vec::new();
     if steps.len() > 1 {
-        for k in 0..steps.len() {
-            let name = steps[k].effect.clone();
-            let alts: Vec<String> = steps[k]
+        for step in steps.iter_mut() {
+            let name = step.effect.clone();
+            let alts: Vec<String> = step
                 .candidates
                 .iter()
                 .skip(1)
@@ -1345,8 +1345,8 @@ pub fn diagnose(
                     fit::model_error(rms, floor),
                     fit::model_error(new_rms, floor),
                 ));
-                steps[k].effect = alt;
-                steps[k].model = m.clone();
+                step.effect = alt;
+                step.model = m.clone();
                 model = m;
                 rms = new_rms;
                 r = new_r;
