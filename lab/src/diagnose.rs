@@ -40,7 +40,7 @@ use std::f64::consts::PI;
 /// on top is a margin above what an effect-free record gives: on the
 /// effect-free records of the test matrix no candidate reached 1.5 % (while
 /// BIC alone accepted some), and the hidden effects give 11–95 % (see
-/// DIAGNOSE.md).
+/// lab/README.md).
 pub const ACCEPT_GAIN: f64 = 0.05;
 
 /// Least relative reduction per added parameter (a candidate with `p` new
@@ -515,17 +515,7 @@ fn candidate_starts(p: &Prepared, m: &Model, effect: &str, r: &[f64]) -> Vec<Mod
             // without lag bends V, δ to mimic it), so the shape restarts too.
             // It may even have dropped the Stribeck dip (V → 0): restart
             // it from the data's low speeds as the base model's grid does.
-            let mut speeds: Vec<f64> = p
-                .valid()
-                .map(|i| p.v[i].abs())
-                .filter(|s| *s > p.v_rest)
-                .collect();
-            let v_lo = quantile(&mut speeds, 0.2);
-            let v_lo = if v_lo.is_finite() && v_lo > 0.0 {
-                v_lo
-            } else {
-                m.v_stribeck
-            };
+            let v_lo = low_speed(p).unwrap_or(m.v_stribeck);
             for tau_l in [0.01, 0.03, 0.1] {
                 out.push(with(&|c| {
                     c.effects.frictional_lag = Some(FrictionalLag { tau_l })
@@ -720,20 +710,22 @@ fn prefer_nested(cands: &mut [Candidate]) {
     }
 }
 
-/// Restarts of the base shape: `V` at 0.3, 1 and 3 times the 20 % speed
-/// quantile, δ = 1 and 2, `Fs = 1.4·Fc`, the rest of `m` kept.
-fn restarts(p: &Prepared, m: &Model) -> Vec<Model> {
+/// The 20 % quantile of the moving speeds [m/s] (`None` without moving
+/// samples): where a Stribeck search starts.
+fn low_speed(p: &Prepared) -> Option<f64> {
     let mut speeds: Vec<f64> = p
         .valid()
         .map(|i| p.v[i].abs())
         .filter(|s| *s > p.v_rest)
         .collect();
-    let v_lo = quantile(&mut speeds, 0.2);
-    let v_lo = if v_lo.is_finite() && v_lo > 0.0 {
-        v_lo
-    } else {
-        1e-3
-    };
+    let v = quantile(&mut speeds, 0.2);
+    (v.is_finite() && v > 0.0).then_some(v)
+}
+
+/// Restarts of the base shape: `V` at 0.3, 1 and 3 times the 20 % speed
+/// quantile, δ = 1 and 2, `Fs = 1.4·Fc`, the rest of `m` kept.
+fn restarts(p: &Prepared, m: &Model) -> Vec<Model> {
+    let v_lo = low_speed(p).unwrap_or(1e-3);
     let mut out = vec![m.clone()];
     for vf in [0.3, 1.0, 3.0] {
         for delta in [1.0, 2.0] {
@@ -876,13 +868,7 @@ fn remove_effect(m: &Model, name: &str, p: &Prepared) -> Model {
             // Fs = Fc marks the absence (MODEL.md §7); V and δ then have no
             // effect and are written as neutral, physical values.
             c.fs = c.fc;
-            let mut speeds: Vec<f64> = p
-                .valid()
-                .map(|i| p.v[i].abs())
-                .filter(|s| *s > p.v_rest)
-                .collect();
-            let v = quantile(&mut speeds, 0.2);
-            c.v_stribeck = if v.is_finite() && v > 0.0 { v } else { 1e-3 };
+            c.v_stribeck = low_speed(p).unwrap_or(1e-3);
             c.delta = 1.0;
         }
         "presliding" => c.z_max = 0.0,
@@ -1450,7 +1436,7 @@ pub fn effect_params(m: &Model, name: &str) -> serde_json::Value {
     }
 }
 
-/// The JSON report of issue 6.
+/// The JSON report (keys in lab/README.md).
 pub fn report_json(rep: &Report) -> String {
     use serde_json::json;
     let steps: Vec<_> = rep

@@ -1,5 +1,5 @@
 //! Command line of the discrepancy workflow: `synth`, `fit`, `validate`,
-//! `diagnose` and `static-curve` (issue 6). Parsing is hand-written like
+//! `diagnose` and `static-curve`. Parsing is hand-written like
 //! [`crate::args`], every error one line naming the argument.
 
 use crate::data::{self, Record};
@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 
 /// The text of `--help` for these sub-commands.
 pub const USAGE: &str = "\
-breakaway-lab: the discrepancy workflow (issue 6)
+breakaway-lab: the discrepancy workflow (manual: lab/README.md)
 
 USAGE:
   breakaway-lab diagnose DATA [--model MODEL.toml] [--json REPORT.json] [--svg PLOT.svg]
@@ -38,6 +38,13 @@ USAGE:
   static-curve  Stribeck + viscous fit per direction of a steady-state friction file (Indy7 layout:
                 `desired vel, real vel, tau` in deg/s and N·m)
 
+DATA may also be a steady-state record (the Indy7 layout, or CSV columns v, u): diagnose then
+fits the steady-state curve and tries the effects visible in it (viscous, nonlinear_viscous,
+offset, asymmetry).
+Reports give the gap as model error above the measurement floor (force noise and encoder
+resolution); samples where the position stays within one count are the measured friction,
+re-anchor the presliding memory and are not scored.
+
 DATA: CSV with columns t, u, x (optional v), MODEL.md §6, or a .mat file in the EMPS layout.
 The residual is the force along the measured motion (MODEL.md §8: compared locally).
 
@@ -47,9 +54,9 @@ OPTIONS:
   --json [FILE]      diagnose: write the JSON report to FILE; fit/validate/static-curve: JSON on stdout
   --svg FILE         residual before/after over time and against each localising signal
   --candidates LIST  diagnose: only these catalogue effects (comma list)
-  --window K         Savitzky-Golay half-width in samples (default 5, 2..50)
-  --effect LIST      synth: hidden effects (viscous, offset, asymmetry, position_ripple,
-                     dwell_stiction, frictional_lag, drift) or none (default none)
+  --window K         Savitzky-Golay half-width in samples, 2..50 (default: chosen from the data)
+  --effect LIST      synth: hidden effects (viscous, nonlinear_viscous, offset, asymmetry,
+                     position_ripple, dwell_stiction, frictional_lag, drift) or none (default none)
   --seed S           synth: seed (default 1)
   --noise L          synth: low or high (default low)
   --set N            synth: base parameter set 0 or 1 (default 0)
@@ -369,26 +376,23 @@ fn not_input(out: &Path, inputs: &[&Path]) -> Result<(), Error> {
 
 fn load_data(path: &Path, window: Option<usize>) -> Result<(Record, usize), Error> {
     let rec = data::load(path)?;
-    let min_window = window.unwrap_or(fit::DEFAULT_HALF_WIDTH);
-    if rec.len() < 20 * min_window + 20 {
-        return Err(Error::Runtime(format!(
-            "{}: too few samples: {} for a window of {min_window} (need at least {})",
-            path.display(),
-            rec.len(),
-            20 * min_window + 20
-        )));
-    }
+    let enough = |k: usize| {
+        if rec.len() < 20 * k + 20 {
+            Err(Error::Runtime(format!(
+                "{}: too few samples: {} for a window of {k} (need at least {})",
+                path.display(),
+                rec.len(),
+                20 * k + 20
+            )))
+        } else {
+            Ok(k)
+        }
+    };
+    let min_window = enough(window.unwrap_or(fit::DEFAULT_HALF_WIDTH))?;
     let window = window.unwrap_or_else(|| {
         fit::auto_window(&rec).min((rec.len().saturating_sub(20) / 20).max(min_window))
     });
-    if rec.len() < 20 * window + 20 {
-        return Err(Error::Runtime(format!(
-            "{}: too few samples: {} for a window of {window} (need at least {})",
-            path.display(),
-            rec.len(),
-            20 * window + 20
-        )));
-    }
+    enough(window)?;
     Ok((rec, window))
 }
 

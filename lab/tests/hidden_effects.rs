@@ -1,8 +1,11 @@
-//! The hidden-effect matrix of issue 6: synthetic records with each
-//! catalogue effect alone, several pairs and none, on two parameter sets,
-//! two noise levels and several seeds; `diagnose` must name the hidden
-//! effects exactly in ≥ 90 % of the cases, name nothing on effect-free data,
-//! and shrink the gap by ≥ 50 % (median). The table is printed (run with
+//! The **in-model** hidden-effect matrix: records from `synth`, which uses
+//! the same `Friction` code the fitter uses (a regression check, not
+//! evidence of generalisation; the independent evidence is
+//! `tests/independent_records.rs` and `cargo xtask sweep`). Each catalogue
+//! effect alone, several pairs and none, on two parameter sets, two noise
+//! levels and several seeds; `diagnose` must name the hidden effects
+//! exactly in ≥ 90 % of the cases, name nothing on effect-free data, and
+//! shrink the gap by ≥ 50 % (median). The table is printed (run with
 //! `--nocapture`); a larger sweep is the ignored test `sweep`.
 
 use breakaway_lab::diagnose::{self, Options};
