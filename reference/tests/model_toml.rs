@@ -108,6 +108,12 @@ fn random_model(r: &mut Rng) -> Model {
             beta: r.any_finite(),
         });
     }
+    if r.next().is_multiple_of(2) {
+        e.nonlinear_viscous = Some(NonlinearViscous {
+            sigma_n: r.non_negative(),
+            n: 2.0 * (1.0 - r.unit()).max(1e-9),
+        });
+    }
     Model {
         mass: r.positive(),
         fc,
@@ -155,6 +161,7 @@ fn bits(m: &Model) -> Vec<Option<u64>> {
     );
     opt(e.frictional_lag.map(|l| vec![l.tau_l]), 1);
     opt(e.drift.map(|d| vec![d.beta]), 1);
+    opt(e.nonlinear_viscous.map(|n| vec![n.sigma_n, n.n]), 2);
     v
 }
 
@@ -220,6 +227,9 @@ v_rest = 1e-4
 tau_l = 0.01
 [effects.drift]
 beta = 1e-3
+[effects.nonlinear_viscous]
+sigma_n = 2.0
+n = 0.5
 "#;
 
 #[test]
@@ -253,6 +263,13 @@ fn reads_the_spec_example() {
         Some(FrictionalLag { tau_l: 0.01 })
     );
     assert_eq!(m.effects.drift, Some(Drift { beta: 1e-3 }));
+    assert_eq!(
+        m.effects.nonlinear_viscous,
+        Some(NonlinearViscous {
+            sigma_n: 2.0,
+            n: 0.5
+        })
+    );
     assert_eq!(Model::from_toml_str(&m.to_toml_string()).unwrap(), m);
 }
 
@@ -333,6 +350,9 @@ fn each_invalid_value_is_an_error_naming_its_key() {
         ("tau_l", "effects.frictional_lag.tau_l", "0.0"),
         ("tau_l", "effects.frictional_lag.tau_l", "-0.01"),
         ("beta", "effects.drift.beta", "nan"),
+        ("sigma_n", "effects.nonlinear_viscous.sigma_n", "-1.0"),
+        ("n", "effects.nonlinear_viscous.n", "0.0"),
+        ("n", "effects.nonlinear_viscous.n", "2.5"),
         // wrong types
         ("mass", "mass", "\"1.0\""),
         ("beta", "effects.drift.beta", "true"),
@@ -428,4 +448,30 @@ fn load_and_save_name_the_file() {
     bad.mass = -1.0;
     assert_eq!(bad.save(&path).unwrap_err().key, "mass");
     std::fs::remove_dir_all(&dir).ok();
+}
+
+/// `nonlinear_viscous` in the friction of MODEL.md §5, by hand: in gross
+/// sliding at v = ±0.04 m/s with Fc = Fs = 1 N, σ_n = 2 N·(s/m)^0.5, n = 0.5,
+/// F = ±(1 + 2·√0.04) = ±1.4 N.
+#[test]
+fn nonlinear_viscous_adds_sigma_n_times_v_to_the_n() {
+    let mut m = Model::from_toml_str(SPEC_EXAMPLE).unwrap();
+    m.effects = Effects {
+        nonlinear_viscous: Some(NonlinearViscous {
+            sigma_n: 2.0,
+            n: 0.5,
+        }),
+        ..Effects::default()
+    };
+    m.fs = m.fc;
+    for sign in [1.0, -1.0] {
+        let mut f = Friction::new(&m, 0.0, 0.0, 0.0);
+        let mut last = 0.0;
+        for i in 0..=100 {
+            // 4 mm of travel at 0.04 m/s: far past z_max = 10 µm.
+            let t = i as f64 * 1e-3;
+            last = f.update(&m, t, sign * 0.04 * t, sign * 0.04);
+        }
+        assert!((last - sign * 1.4).abs() < 1e-12, "{last}");
+    }
 }
