@@ -171,7 +171,7 @@ pub struct Report {
     pub floor: f64,
     /// Force-noise level [N] of the residual ([`Prepared::sigma0`]).
     pub sigma0: f64,
-    /// Still samples (position constant over the window; the friction is
+    /// Still samples (position within one count over the window; the friction is
     /// the measured force there, not a prediction) and all valid samples.
     pub still: (usize, usize),
     /// Parts of the start structure dropped as not identifiable, with the
@@ -206,7 +206,7 @@ pub struct Report {
 }
 
 /// What the residual is, for reports.
-pub const METRIC: &str = "model error [N]: sqrt(rms^2 - floor^2), rms the held-out weighted RMS of the force residual along the measured motion, r = W*(u - F(t, x, v_hat)) - m*a_hat (Savitzky-Golay v_hat, a_hat; W the matching force kernel), floor the part that force noise and encoder resolution explain; still samples (position constant over the window) are the measured force, re-anchor the presliding memory and carry no weight; weights (speed/direction class x noise/resolution variance) fixed from the start model; time blocks 2, 5, 8 of 10 held out";
+pub const METRIC: &str = "model error [N]: sqrt(rms^2 - floor^2), rms the held-out weighted RMS of the force residual along the measured motion, r = W*(u - F(t, x, v_hat)) - m*a_hat (Savitzky-Golay v_hat, a_hat; W the matching force kernel), floor the part that force noise and encoder resolution explain; still samples (position within one count over the window) are the measured force, re-anchor the presliding memory and carry no weight; weights (speed/direction class x noise/resolution variance) fixed from the start model; time blocks 2, 5, 8 of 10 held out";
 
 fn held_rms(p: &Prepared, m: &Model) -> (f64, Vec<f64>) {
     let r = p.residual(m);

@@ -181,12 +181,9 @@ pub struct Prepared {
     /// re-anchored at the measured force ([`Prepared::friction`]) and the
     /// sample carries no weight.
     pub still: Vec<bool>,
-    /// Measured force at still samples [N]: mean of `ū` over the last three
-    /// samples of the still run (0 elsewhere).
+    /// Measured force at still samples [N]: mean of `ū` over the sample and
+    /// the two before it (0 elsewhere).
     pub u_still: Vec<f64>,
-    /// Class weight of each sample (speed/direction classes, see the module
-    /// doc), before the error-in-variables factor.
-    pub class_weight: Vec<f64>,
     /// Variance of the residual of a correct model at each sample [N²]
     /// (noise and resolution, [`Prepared::set_error_weights`]); `σ0²` until
     /// then.
@@ -316,7 +313,6 @@ impl Prepared {
             dt,
             still,
             u_still,
-            class_weight: vec![0.0; n],
             var: vec![0.0; n],
             sigma0: 0.0,
         };
@@ -414,7 +410,6 @@ impl Prepared {
                 *w *= nv / total;
             }
         }
-        self.class_weight.clone_from(&self.weight);
     }
 
     /// Error-in-variables weights for model `m` with residual `r` (of `m`).
