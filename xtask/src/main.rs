@@ -20,7 +20,7 @@ use std::env;
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
 
-const USAGE: &str = "usage: cargo xtask <setup|demo|test|profile>
+const USAGE: &str = "usage: cargo xtask <setup|demo|test|profile|fuzz|sweep>
   setup    install the rustup targets, rustfmt, clippy and qemu-system-arm (where allowed)
   demo     set up, then run the firmware examples on the Cortex-M4F under QEMU
   test     set up, then run every check (fmt, clippy, host tests, on-target checks)

@@ -198,6 +198,15 @@ pub fn sweep(o: &Options) -> Result<Vec<Scored>, String> {
         .filter_map(Result::ok)
         .map(|e| e.path())
         .filter(|p| p.join("truth.json").is_file())
+        // Only this run's seeds (`s<seed>_…`), whatever else is in DIR.
+        .filter(|p| {
+            p.file_name()
+                .and_then(|n| n.to_str())
+                .and_then(|n| n.strip_prefix('s'))
+                .and_then(|n| n.split('_').next())
+                .and_then(|n| n.parse::<u64>().ok())
+                .is_some_and(|seed| (o.from..o.to).contains(&seed))
+        })
         .collect();
     dirs.sort();
     let total = dirs.len();
