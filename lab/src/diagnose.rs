@@ -371,6 +371,23 @@ pub fn initial_base(p: &Prepared, progress: &mut dyn FnMut(&str)) -> Model {
     fit::fit(p, &start, &params, &FitOptions::default(), &mut |_| {}).model
 }
 
+/// The base model identified from the data (a refit once with error
+/// weights), with the record's error weights set from it. Without a given
+/// model, `diagnose` and `validate` use these weights, so that every figure
+/// on one record compares like with like whatever model it is for.
+pub fn base_weights(p: &mut Prepared, progress: &mut dyn FnMut(&str)) -> Model {
+    let mut model = initial_base(p, progress);
+    let r0 = p.residual(&model);
+    p.set_error_weights(&model, &r0);
+    // The base model was identified with class weights only: refit it once
+    // with error weights and take the weights from that fit.
+    let params = fit::params_of(&model);
+    model = fit::fit(p, &model, &params, &FitOptions::default(), &mut |_| {}).model;
+    let r1 = p.residual(&model);
+    p.set_error_weights(&model, &r1);
+    model
+}
+
 /// Dry friction `H` along the motion (for regressions).
 fn dry_force(p: &Prepared, m: &Model) -> Vec<f64> {
     let mut fr = Friction::new(m, p.t[0], p.x[0], p.v[0]);
@@ -1129,22 +1146,16 @@ pub fn diagnose(
 ) -> Report {
     let mut p = Prepared::new(rec, opts.half_width);
     let mut show = |s: &str| progress.show(s);
-    let mut model = match start {
-        Some(m) => m.clone(),
-        None => initial_base(&p, &mut show),
-    };
     // Error-in-variables weights from the start model, fixed from here on:
     // every figure compared below uses them.
-    let r0 = p.residual(&model);
-    p.set_error_weights(&model, &r0);
-    if start.is_none() {
-        // The base model was identified with class weights only: refit it
-        // once with error weights and take the weights from that fit.
-        let params = fit::params_of(&model);
-        model = fit::fit(&p, &model, &params, &FitOptions::default(), &mut |_| {}).model;
-        let r1 = p.residual(&model);
-        p.set_error_weights(&model, &r1);
-    }
+    let mut model = match start {
+        Some(m) => {
+            let r0 = p.residual(m);
+            p.set_error_weights(m, &r0);
+            m.clone()
+        }
+        None => base_weights(&mut p, &mut show),
+    };
     let floor = p.floor(Some(true));
     let given = start.map(|m| fit::model_error(held_rms(&p, m).0, floor));
     show("refitting with error weights");

@@ -493,8 +493,12 @@ pub fn run(cmd: Command, out: &mut dyn Write) -> Result<(), Error> {
             let (rec, window) = load_data(&data, window)?;
             let m = load_model(&model)?;
             let mut p = Prepared::new(&rec, window);
-            let r0 = p.residual(&m);
-            p.set_error_weights(&m, &r0);
+            // The weights come from the data's base model, not from the
+            // model under test: two models validated on one record are
+            // compared with the same weights.
+            let mut progress = Progress::stderr();
+            diagnose::base_weights(&mut p, &mut |s| progress.show(s));
+            progress.finish();
             let r = p.residual(&m);
             let all = p.rms(&r, None);
             let floor = p.floor(None);
