@@ -388,15 +388,12 @@ pub fn base_weights(p: &mut Prepared, progress: &mut dyn FnMut(&str)) -> Model {
     model
 }
 
-/// Dry friction `H` along the motion (for regressions).
+/// Dry friction `H` along the motion, as the residual sees it (for
+/// regressions of the residual).
 fn dry_force(p: &Prepared, m: &Model) -> Vec<f64> {
-    let mut fr = Friction::new(m, p.t[0], p.x[0], p.v[0]);
-    (0..p.len())
-        .map(|i| {
-            fr.update(m, p.t[i], p.x[i], p.v[i]);
-            fr.dry()
-        })
-        .collect()
+    let mut h = vec![0.0; p.len()];
+    p.walk(m, |i, fr| h[i] = fr.dry());
+    h
 }
 
 /// One-parameter regression of `r` on the filtered series `s` (training
@@ -796,21 +793,27 @@ pub fn degenerate(p: &Prepared, m: &Model, name: &str) -> Option<String> {
             (near(d.gamma, 5e-3) || near(d.gamma, 100.0))
                 .then(|| format!("gamma = {} s at a bound", d.gamma))
         }),
-        "nonlinear_viscous" => m.effects.nonlinear_viscous.and_then(|nv| {
-            // n = 1 is `viscous` (MODEL.md §5 names it only for n ≠ 1).
-            if (nv.n - 1.0).abs() < 0.1 {
-                Some(format!("n = {:.3} is viscous", nv.n))
-            } else if near(nv.n, fit::NV_EXP_RANGE.0) || near(nv.n, fit::NV_EXP_RANGE.1) {
-                Some(format!("n = {:.3} at a bound of its range", nv.n))
-            } else {
-                None
-            }
-        }),
+        "nonlinear_viscous" => nonlinear_viscous_degenerate(m),
         "frictional_lag" => m.effects.frictional_lag.and_then(|l| {
             (near(l.tau_l, 1e-3) || near(l.tau_l, 100.0))
                 .then(|| format!("tau_l = {} s at a bound", l.tau_l))
         }),
         _ => None,
+    }
+}
+
+/// Why `m`'s `nonlinear_viscous` term is not a finding, or `None`:
+/// `n = 1` is `viscous` (MODEL.md §5 names it only for n ≠ 1), and an `n`
+/// at a bound of [`fit::NV_EXP_RANGE`] is not identified.
+pub fn nonlinear_viscous_degenerate(m: &Model) -> Option<String> {
+    let nv = m.effects.nonlinear_viscous?;
+    let near = |x: f64, bound: f64| (x / bound).ln().abs() < 0.02;
+    if (nv.n - 1.0).abs() < 0.1 {
+        Some(format!("n = {:.3} is viscous", nv.n))
+    } else if near(nv.n, fit::NV_EXP_RANGE.0) || near(nv.n, fit::NV_EXP_RANGE.1) {
+        Some(format!("n = {:.3} at a bound of its range", nv.n))
+    } else {
+        None
     }
 }
 

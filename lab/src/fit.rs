@@ -535,74 +535,68 @@ impl Prepared {
         }
     }
 
-    /// Per-sample `|∂H/∂x|` [N/m] (0 in gross sliding; `w` at least half an
-    /// encoder count from the turning point) and `|∂F/∂v|` [N·s/m] (the
-    /// Stribeck slope times `g(w)`, plus σ) of model `m` along the motion.
-    pub fn sensitivities(&self, m: &Model) -> (Vec<f64>, Vec<f64>) {
-        let sx = self.position_sensitivity(m);
+    /// Runs the friction memory of `m` along the measured motion and calls
+    /// `f(i, &friction)` after each sample's update. After a still sample
+    /// the memory is re-anchored at the measured force (see
+    /// [`Prepared::still`]): dry friction `ū − (F − H)`, so that the
+    /// friction there is `ū` and the next motion starts from it. Every pass
+    /// of the lab over a record goes through here, so they all see the same
+    /// memory.
+    pub fn walk(&self, m: &Model, mut f: impl FnMut(usize, &Friction)) {
         let mut fr = Friction::new(m, self.t[0], self.x[0], self.v[0]);
-        let sv = (0..self.len())
-            .map(|i| {
-                fr.update(m, self.t[i], self.x[i], self.v[i]);
-                let pre = fr.presliding();
-                let g = if pre.direction() == 0 || m.z_max <= 0.0 {
-                    1.0
-                } else {
-                    let w = pre.travel(m.z_max, self.x[i]).max(1e-12);
-                    w * (1.0 - w.ln())
-                };
-                let s = self.v[i].abs() / m.v_stribeck;
-                let slope = if s > 0.0 {
-                    (m.fs - m.fc) * m.delta / m.v_stribeck
-                        * s.powf(m.delta - 1.0)
-                        * (-s.powf(m.delta)).exp()
-                } else {
-                    0.0
-                };
-                g * slope.min(1e12) + m.sigma
-            })
-            .collect();
-        (sx, sv)
+        for i in 0..self.len() {
+            fr.update(m, self.t[i], self.x[i], self.v[i]);
+            f(i, &fr);
+            if self.still[i] {
+                let additive = fr.force() - fr.dry();
+                fr.anchor(self.x[i], self.u_still[i] - additive);
+            }
+        }
     }
 
-    /// `|∂H/∂x|` [N/m] of the presliding branch at every sample (0 in gross
-    /// sliding), with `w` at least half an encoder count from the turning
-    /// point.
-    pub fn position_sensitivity(&self, m: &Model) -> Vec<f64> {
-        let mut fr = Friction::new(m, self.t[0], self.x[0], self.v[0]);
-        if m.z_max <= 0.0 {
-            return vec![0.0; self.len()];
-        }
-        let w_min = (0.5 * self.resolution / m.z_max).min(0.5);
-        (0..self.len())
-            .map(|i| {
-                fr.update(m, self.t[i], self.x[i], self.v[i]);
-                let pre = fr.presliding();
-                let w = pre.travel(m.z_max, self.x[i]);
-                if pre.direction() != 0 && w >= 1.0 {
-                    return 0.0;
-                }
+    /// Per-sample `|∂H/∂x|` [N/m] of the presliding branch (0 in gross
+    /// sliding; `w` at least half an encoder count from the turning point)
+    /// and `|∂F/∂v|` [N·s/m] (the Stribeck slope times `g(w)`, plus σ) of
+    /// model `m` along the motion, in one pass.
+    pub fn sensitivities(&self, m: &Model) -> (Vec<f64>, Vec<f64>) {
+        let n = self.len();
+        let (mut sx, mut sv) = (vec![0.0; n], vec![0.0; n]);
+        let w_min = if m.z_max > 0.0 {
+            (0.5 * self.resolution / m.z_max).min(0.5)
+        } else {
+            1.0
+        };
+        self.walk(m, |i, fr| {
+            let pre = fr.presliding();
+            let d = pre.direction();
+            let w = pre.travel(m.z_max, self.x[i]);
+            let g = if d == 0 || m.z_max <= 0.0 {
+                1.0
+            } else {
+                let w = w.max(1e-12);
+                w * (1.0 - w.ln())
+            };
+            if m.z_max > 0.0 && (d == 0 || w < 1.0) {
                 let w = w.max(w_min);
-                let amp = if pre.direction() == 0 {
+                let amp = if d == 0 {
                     (m.fs - fr.dry()).abs().max((m.fs + fr.dry()).abs())
                 } else {
-                    let g = w * (1.0 - w.ln());
-                    ((fr.dry() - pre.dry_at_turning_point()) / g).abs()
+                    let gw = w * (1.0 - w.ln());
+                    ((fr.dry() - pre.dry_at_turning_point()) / gw).abs()
                 };
-                if self.still[i] {
-                    self.anchor(&mut fr, m, i);
-                }
-                amp * (-w.ln()) / m.z_max
-            })
-            .collect()
-    }
-
-    /// Re-anchors `fr` (just updated with sample `i`, a still sample) at the
-    /// measured force: dry friction `ū − (F − H)`.
-    fn anchor(&self, fr: &mut Friction, m: &Model, i: usize) {
-        let additive = fr.force() - fr.dry();
-        let _ = m;
-        fr.anchor(self.x[i], self.u_still[i] - additive);
+                sx[i] = amp * (-w.ln()) / m.z_max;
+            }
+            let s = self.v[i].abs() / m.v_stribeck;
+            let slope = if s > 0.0 {
+                (m.fs - m.fc) * m.delta / m.v_stribeck
+                    * s.powf(m.delta - 1.0)
+                    * (-s.powf(m.delta)).exp()
+            } else {
+                0.0
+            };
+            sv[i] = g * slope.min(1e12) + m.sigma;
+        });
+        (sx, sv)
     }
 
     /// Applies the force kernel to a per-sample series `s` at sample `i`.
@@ -614,22 +608,18 @@ impl Prepared {
         acc
     }
 
-    /// The friction `F` of `m` along the measured motion, every sample.
-    /// At still samples the memory is re-anchored at the measured force
-    /// (see [`Prepared::still`]), so `F = ū` there.
+    /// The friction `F` of `m` along the measured motion, every sample
+    /// ([`Prepared::walk`]: `F = ū` at still samples).
     pub fn friction(&self, m: &Model) -> Vec<f64> {
-        let mut fr = Friction::new(m, self.t[0], self.x[0], self.v[0]);
-        (0..self.len())
-            .map(|i| {
-                let f = fr.update(m, self.t[i], self.x[i], self.v[i]);
-                if self.still[i] {
-                    self.anchor(&mut fr, m, i);
-                    fr.force()
-                } else {
-                    f
-                }
-            })
-            .collect()
+        let mut f = vec![0.0; self.len()];
+        self.walk(m, |i, fr| {
+            f[i] = if self.still[i] {
+                self.u_still[i]
+            } else {
+                fr.force()
+            }
+        });
+        f
     }
 
     /// The residual `r_i` of `m` (0 outside the valid range).

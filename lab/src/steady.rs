@@ -23,7 +23,7 @@
 //! report gives the noise beside it.
 
 use crate::diagnose::{self, required_gain};
-use crate::fit::{self, FitOptions, Residuals, NV_EXP_RANGE};
+use crate::fit::{self, FitOptions, Param, Residuals};
 use crate::reference::{stribeck, Asymmetry, Effects, Model, NonlinearViscous, Offset};
 use crate::static_curve::Point;
 use crate::Error;
@@ -36,106 +36,14 @@ pub const NOISE_FACTOR: f64 = 1.5;
 /// The effects a steady-state record can show, in the order tried.
 pub const STEADY_CANDIDATES: [&str; 4] = ["viscous", "nonlinear_viscous", "offset", "asymmetry"];
 
-/// A free parameter of the steady-state fit.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Sp {
-    Fc,
-    FsExcess,
-    VStribeck,
-    Delta,
-    Sigma,
-    SigmaN,
-    NvExp,
-    F0,
-    Asym,
-}
-
-fn params_of(m: &Model) -> Vec<Sp> {
-    let mut p = vec![Sp::Fc];
-    if fit::has_effect(m, "stribeck") {
-        p.extend([Sp::FsExcess, Sp::VStribeck, Sp::Delta]);
-    }
-    if m.sigma > 0.0 {
-        p.push(Sp::Sigma);
-    }
-    let e = &m.effects;
-    if e.nonlinear_viscous.is_some() {
-        p.extend([Sp::SigmaN, Sp::NvExp]);
-    }
-    if e.offset.is_some() {
-        p.push(Sp::F0);
-    }
-    if e.asymmetry.is_some() {
-        p.push(Sp::Asym);
-    }
-    p
-}
-
-fn logit(x: f64, lo: f64, hi: f64) -> f64 {
-    let u = ((x - lo) / (hi - lo)).clamp(1e-6, 1.0 - 1e-6);
-    (u / (1.0 - u)).ln()
-}
-
-fn logistic(th: f64, lo: f64, hi: f64) -> f64 {
-    lo + (hi - lo) / (1.0 + (-th.clamp(-40.0, 40.0)).exp())
-}
-
-fn encode(m: &Model, ps: &[Sp]) -> Vec<f64> {
-    let e = &m.effects;
-    ps.iter()
-        .map(|p| match p {
-            Sp::Fc => m.fc.ln(),
-            Sp::FsExcess => (m.fs - m.fc).max(1e-9 * m.fc).ln(),
-            Sp::VStribeck => m.v_stribeck.ln(),
-            Sp::Delta => logit(m.delta, fit::DELTA_RANGE.0, fit::DELTA_RANGE.1),
-            Sp::Sigma => m.sigma,
-            Sp::SigmaN => e.nonlinear_viscous.map_or(0.0, |n| n.sigma_n),
-            Sp::NvExp => logit(
-                e.nonlinear_viscous.map_or(0.5, |n| n.n),
-                NV_EXP_RANGE.0,
-                NV_EXP_RANGE.1,
-            ),
-            Sp::F0 => e.offset.map_or(0.0, |o| o.f0),
-            Sp::Asym => e.asymmetry.map_or(0.0, |a| a.a.clamp(-0.95, 0.95).atanh()),
-        })
+/// The free parameters of `m`'s structure on a steady-state record: those
+/// of the record fit ([`fit::params_of`]) without the mass and `z_max`,
+/// which a steady state does not show.
+fn params_of(m: &Model) -> Vec<Param> {
+    fit::params_of(m)
+        .into_iter()
+        .filter(|p| !matches!(p, Param::Mass | Param::ZMax))
         .collect()
-}
-
-fn decode(m0: &Model, ps: &[Sp], th: &[f64]) -> Model {
-    let mut m = m0.clone();
-    for (p, &x) in ps.iter().zip(th) {
-        let e = &mut m.effects;
-        match p {
-            Sp::Fc => {
-                let excess = m.fs - m.fc;
-                m.fc = x.clamp(-200.0, 200.0).exp();
-                m.fs = m.fc + excess.max(0.0);
-            }
-            Sp::FsExcess => m.fs = m.fc + x.clamp(-200.0, 200.0).exp(),
-            Sp::VStribeck => m.v_stribeck = x.clamp(-200.0, 200.0).exp(),
-            Sp::Delta => m.delta = logistic(x, fit::DELTA_RANGE.0, fit::DELTA_RANGE.1),
-            Sp::Sigma => m.sigma = x.max(0.0),
-            Sp::SigmaN | Sp::NvExp => {
-                let mut nv = e.nonlinear_viscous.unwrap_or(NonlinearViscous {
-                    sigma_n: 0.0,
-                    n: 0.5,
-                });
-                if *p == Sp::SigmaN {
-                    nv.sigma_n = x.max(0.0);
-                } else {
-                    nv.n = logistic(x, NV_EXP_RANGE.0, NV_EXP_RANGE.1);
-                }
-                e.nonlinear_viscous = Some(nv);
-            }
-            Sp::F0 => e.offset = Some(Offset { f0: x }),
-            Sp::Asym => {
-                e.asymmetry = Some(Asymmetry {
-                    a: x.clamp(-3.0, 3.0).tanh(),
-                })
-            }
-        }
-    }
-    m
 }
 
 /// The steady-state friction `F(v)` [N] (N·m) of `m` at velocity `v`
@@ -231,12 +139,12 @@ impl SteadyRecord {
 struct SteadyProblem<'a> {
     rec: &'a SteadyRecord,
     m0: &'a Model,
-    params: &'a [Sp],
+    params: &'a [Param],
 }
 
 impl Residuals for SteadyProblem<'_> {
     fn residuals(&self, th: &[f64]) -> Vec<f64> {
-        let m = decode(self.m0, self.params, th);
+        let m = fit::decode(self.m0, self.params, th, 1.0);
         self.rec
             .points
             .iter()
@@ -257,11 +165,11 @@ pub fn fit_steady(rec: &SteadyRecord, m0: &Model) -> Model {
     };
     let (th, _, _) = fit::levenberg_marquardt(
         &problem,
-        encode(m0, &params),
+        fit::encode(m0, &params, 1.0),
         &FitOptions::default(),
         &mut |_| {},
     );
-    tidy(rec, decode(m0, &params, &th))
+    tidy(rec, fit::decode(m0, &params, &th, 1.0))
 }
 
 /// Without a Stribeck dip (`Fs = Fc` up to 0.1 %) `V` and `δ` have no
@@ -411,15 +319,7 @@ fn with_effect(m: &Model, name: &str, rec: &SteadyRecord) -> Vec<Model> {
 fn degenerate(m: &Model, name: &str) -> Option<String> {
     let near = |x: f64, b: f64| (x / b).ln().abs() < 0.02;
     match name {
-        "nonlinear_viscous" => m.effects.nonlinear_viscous.and_then(|nv| {
-            if (nv.n - 1.0).abs() < 0.1 {
-                Some(format!("n = {:.3} is viscous", nv.n))
-            } else if near(nv.n, NV_EXP_RANGE.0) || near(nv.n, NV_EXP_RANGE.1) {
-                Some(format!("n = {:.3} at a bound", nv.n))
-            } else {
-                None
-            }
-        }),
+        "nonlinear_viscous" => diagnose::nonlinear_viscous_degenerate(m),
         "stribeck" if fit::has_effect(m, "stribeck") => (near(m.delta, fit::DELTA_RANGE.0)
             || near(m.delta, fit::DELTA_RANGE.1))
         .then(|| format!("delta = {:.4} at a bound of its range", m.delta)),
