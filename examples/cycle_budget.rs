@@ -188,7 +188,7 @@ fn main() -> ! {
     let Ok(fixed) = Model::<Q16>::new(common::FIG5) else {
         common::exit_failure("invalid fixed-point model");
     };
-    let Some(scale) = fixed.position_scale(COUNT) else {
+    let Some(scale) = fixed.position_scale::<i32>(COUNT) else {
         common::exit_failure("encoder scale out of range");
     };
     let (Ok(mut fixed_axis), Ok(fixed_predictor), Some(per_count)) = (

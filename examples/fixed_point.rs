@@ -2,11 +2,12 @@
 //! without an FPU: the presliding trajectory of `presliding_loop` and the
 //! break-away table of `breakaway_table`, in per-unit numbers.
 //!
-//! Output: `s <count> <v raw> <F raw>` per sample (v in units of V, F in
-//! units of Fs, raw = value·2¹⁶), then `ba <variant> <k raw> <v_b raw> <F_ba
-//! raw> <t_ba raw>` (k in Fs/s), then `done`. `cargo xtask test` runs it on
-//! the Cortex-M0 (QEMU microbit) and compares every line with the f64
-//! reference (1e-3·Fs, 1e-3 relative).
+//! Output: `s <per z_max> <count> <v raw> <F raw>` per sample, for encoders
+//! of 10, 10³, 10⁵ and 10⁷ counts per z_max (v in units of V, F in units of
+//! Fs, raw = value·2¹⁶), then `ba <variant> <k raw> <v_b raw> <F_ba raw>
+//! <t_ba raw>` (k in Fs/s), then `done`. `cargo xtask test` runs it on the
+//! Cortex-M0 (QEMU microbit) and compares every value with the f64
+//! reference (friction 1e-3·Fs; F_ba, v_b, t_ba 1e-3 relative).
 #![no_std]
 #![no_main]
 #![allow(unsafe_code)] // cortex-m-rt's `#[exception]` handler is an `unsafe fn`
@@ -20,8 +21,10 @@ use cortex_m_semihosting::hprintln;
 
 type Fx = Q16<16>;
 
-/// Metres per encoder count.
-const COUNT: f32 = 1e-8;
+/// Metres per step of the reversal trajectory (z_max/1000).
+const STEP: f32 = 1e-8;
+/// Encoder resolutions: counts per z_max.
+const RESOLUTIONS: [i64; 4] = [10, 1_000, 100_000, 10_000_000];
 /// Sample period [s].
 const DT: f32 = 1e-3;
 const SAMPLES: i32 = 600;
@@ -31,24 +34,29 @@ fn main() -> ! {
     let Ok(model) = Model::<Fx>::new(common::FIG5) else {
         common::exit_failure("invalid parameters");
     };
-    let Some(scale) = model.position_scale(COUNT) else {
-        common::exit_failure("encoder scale out of range");
-    };
-    let Ok(mut axis) = Presliding::<i32, Fx>::new(0, scale) else {
-        common::exit_failure("invalid scale");
-    };
-    // Velocity in units of V per count per sample, converted once.
-    let Some(per_count) = model.velocity(COUNT / DT) else {
+    // Velocity in units of V per trajectory step per sample, converted once.
+    let Some(per_step) = model.velocity(STEP / DT) else {
         common::exit_failure("velocity scale out of range");
     };
-    let mut last = 0;
-    for n in 0..SAMPLES {
-        let count = common::reversal_trajectory(n);
-        let v = Fx::saturating_from_int(count - last) * per_count;
-        last = count;
-        match axis.update(&model, count, v) {
-            Ok(f) => hprintln!("s {} {} {}", count, v.to_bits(), f.to_bits()),
-            Err(_) => common::exit_failure("sample rejected"),
+    for per_z_max in RESOLUTIONS {
+        let count = common::FIG5.z_max / per_z_max as f32;
+        let Some(scale) = model.position_scale::<i32>(count) else {
+            common::exit_failure("encoder scale out of range");
+        };
+        let Ok(mut axis) = Presliding::<i32, Fx>::new(0, scale) else {
+            common::exit_failure("invalid scale");
+        };
+        let mut last = 0;
+        for n in 0..SAMPLES {
+            let step = common::reversal_trajectory(n);
+            let v = Fx::saturating_from_int(step - last) * per_step;
+            last = step;
+            // The trajectory read by this encoder: |count| ≤ 1.9·10⁷.
+            let count = (i64::from(step) * per_z_max / 1000) as i32;
+            match axis.update(&model, count, v) {
+                Ok(f) => hprintln!("s {} {} {} {}", per_z_max, count, v.to_bits(), f.to_bits()),
+                Err(_) => common::exit_failure("sample rejected"),
+            }
         }
     }
     let Ok(predictor) = BreakAwayPredictor::new(&model, DEFAULT_BOUNDARY) else {

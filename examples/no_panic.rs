@@ -19,7 +19,7 @@ use breakaway::compensation::{
     AdaptationConfig, BreakAwayDetector, DetectorConfig, DisturbanceObserver, Feedforward,
     FeedforwardConfig, LevelAdaptation, ObserverConfig,
 };
-use breakaway::{BreakAwayPredictor, Model, Params, Presliding, Scalar, Variant, Q16};
+use breakaway::{BreakAwayPredictor, Model, Params, Presliding, Scalar, ScaleError, Variant, Q16};
 use cortex_m_rt::entry;
 use cortex_m_semihosting::debug;
 
@@ -59,7 +59,10 @@ fn main() -> ! {
             Presliding::<i64>::new(sample(0), sample(1e-8)),
             Presliding::<i32, f32, 8>::new(sample(0), sample(1e-8)),
             Presliding::<f32>::new(sample(0.0), sample(1.0)),
-            Presliding::<i32, Q16, 4>::new(sample(0), sample(Q16::ONE)),
+            fixed
+                .position_scale::<i32>(sample(1e-8))
+                .ok_or(ScaleError)
+                .and_then(|scale| Presliding::<i32, Q16, 4>::new(sample(0), scale)),
         ) {
             for _ in 0..4 {
                 acc += a.update(&model, sample(5i64), sample(1e-4)).unwrap_or(0.0);

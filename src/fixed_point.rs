@@ -26,12 +26,15 @@
 //! for the encoder scale, multiply forces by Fs. Parameters whose scaled values
 //! do not fit are rejected at construction with
 //! [`ParamError::OutOfRange`] naming the
-//! parameter: σ·V/Fs and ε/z_max·256 must be below 32768, Fc/Fs above 2⁻¹⁶,
-//! and the encoder count must lie between z_max/2¹⁶·… and z_max·128 (a scale
-//! of 256·count/z_max in (2⁻¹⁶, 32768)). Samples outside the ranges saturate:
-//! a velocity beyond 32768·V is taken as 32768·V (S is Fc there for any
-//! δ ≥ 0.1), a position difference beyond 128·z_max as 128·z_max (w is 1
-//! there), and the friction output saturates at ±32768·Fs.
+//! parameter: σ·V/Fs and ε/z_max·256 must be below 32768 and Fc/Fs above
+//! 2⁻¹⁶. The encoder scale ([`CountScale`]) is admitted for counts from
+//! z_max/2³⁴ to below 128·z_max and keeps 30 bits of relative precision over
+//! that range: the count difference is scaled in 64 bits before anything is
+//! rounded, so a 20-bit encoder on a fine screw (10⁵–10⁶ counts per z_max)
+//! is as exact as a coarse one. Samples outside the ranges saturate: a
+//! velocity beyond 32768·V is taken as 32768·V (S is Fc there for any
+//! δ ≥ 0.1), a travel beyond 128·z_max as 128·z_max (w is 1 there), and the
+//! friction output saturates at ±32768·Fs.
 //!
 //! Accuracy (measured in `tests/fixed_point.rs` against the f64 reference at
 //! the same quantized inputs): friction within 1e-3·Fs for |v| ≤ 64·V (above
@@ -148,6 +151,19 @@ fn mul_split(a: i32, b: i32) -> i64 {
     high.wrapping_add(middle).wrapping_add(low)
 }
 
+/// a·b exactly from four 32-bit products, for ARMv6-M (see [`mul_split`]):
+/// a_h·b_h·2³² + (a_h·b_l + a_l·b_h)·2¹⁶ + a_l·b_l.
+#[inline(always)]
+#[cfg_attr(not(breakaway_armv6m), allow(dead_code))]
+fn mul_exact_split(a: i32, b: i32) -> i64 {
+    let (ah, al) = (a >> 16, a & 0xffff);
+    let (bh, bl) = (b >> 16, b & 0xffff);
+    let high = i64::from(ah.wrapping_mul(bh)) << 32;
+    let middle = i64::from(ah.wrapping_mul(bl)).wrapping_add(i64::from(al.wrapping_mul(bh))) << 16;
+    let low = i64::from((al as u32).wrapping_mul(bl as u32));
+    high.wrapping_add(middle).wrapping_add(low)
+}
+
 #[inline(always)]
 fn saturate_i32(x: i64) -> i32 {
     if x > i64::from(i32::MAX) {
@@ -249,30 +265,124 @@ impl<const K: usize> Scalar for Q16<K> {
 /// Model length units per z_max.
 const LENGTH_STEPS_PER_Z_MAX: f32 = 256.0;
 
-/// Encoder counts: the 32-bit wrapping difference, saturated to the Q16.16
-/// range and multiplied by the scale (model length units per count).
+/// The scale of encoder counts for a fixed-point model: model length units
+/// (z_max/256) per count, kept as a 31-bit mantissa and a binary exponent so
+/// that its relative precision is 2⁻³⁰ for any encoder resolution.
+///
+/// A Q16.16 scale would hold 0.0256 units per count (10⁴ counts per z_max)
+/// to 1 part in 1 700, and 10⁶ counts per z_max not at all. Here the count
+/// difference is multiplied by the mantissa in 64 bits, before any rounding
+/// or saturation, and shifted once; the travel saturates only beyond
+/// ±32768 units (±128·z_max), where w = 1 anyway.
+///
+/// Admitted: from 2⁻²⁶ units per count (z_max/2³⁴ per count, 1.7·10¹⁰
+/// counts per z_max) to below 32768 (128·z_max per count). Built by
+/// [`Model::position_scale`](crate::Model::position_scale).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct CountScale {
+    /// Raw Q16.16 units per count times 2^shift, in [2³⁰, 2³¹) unless
+    /// `shift` is 0.
+    mantissa: i32,
+    /// Binary exponent, 0 to [`Self::MAX_SHIFT`].
+    shift: u32,
+}
+
+impl CountScale {
+    /// The largest exponent: 2⁻⁴⁰ raw units of mantissa per count.
+    const MAX_SHIFT: u32 = 40;
+
+    /// The scale for `units` model length units per count; `None` outside
+    /// the admitted range or when not finite and positive.
+    pub fn new(units: f32) -> Option<Self> {
+        if !(units.is_finite() && units > 0.0) {
+            return None;
+        }
+        // Raw units per count, scaled by powers of two (exact in f32) into
+        // [2³⁰, 2³¹).
+        let mut raw = units * 65536.0;
+        if raw >= 2_147_483_648.0 {
+            return None;
+        }
+        let mut shift = 0;
+        while raw < 1_073_741_824.0 {
+            if shift == Self::MAX_SHIFT {
+                return None;
+            }
+            raw *= 2.0;
+            shift = shift.wrapping_add(1); // ≤ MAX_SHIFT
+        }
+        // raw < 2³¹ is an integer here (f32 has 24 mantissa bits), so the
+        // conversion is exact.
+        Some(Self {
+            mantissa: raw as i32,
+            shift,
+        })
+    }
+
+    /// The scale as a plain number (model length units per count).
+    pub fn to_f32(self) -> f32 {
+        let mut x = self.mantissa as f32 / 65536.0;
+        for _ in 0..self.shift {
+            x *= 0.5;
+        }
+        x
+    }
+
+    /// `counts` × the scale in raw Q16.16 units, rounded to nearest and
+    /// saturated: one exact 64-bit product and one shift (|counts·mantissa|
+    /// < 2⁶², so nothing overflows before the shift).
+    #[inline(always)]
+    fn apply<const K: usize>(self, counts: i32) -> Q16<K> {
+        #[cfg(not(breakaway_armv6m))]
+        let product = i64::from(counts).wrapping_mul(i64::from(self.mantissa));
+        #[cfg(breakaway_armv6m)]
+        let product = mul_exact_split(counts, self.mantissa);
+        let rounded = if self.shift == 0 {
+            product
+        } else {
+            product.wrapping_add(1 << self.shift.wrapping_sub(1)) >> self.shift
+        };
+        Q16::from_bits(saturate_i32(rounded))
+    }
+}
+
+/// Encoder counts: the 32-bit wrapping difference times the
+/// [`CountScale`], in 64 bits.
 impl<const K: usize> Position<Q16<K>> for i32 {
+    type Scale = CountScale;
     #[inline(always)]
     fn is_valid(self) -> bool {
         true
     }
+    fn scale(units: f32) -> Option<CountScale> {
+        CountScale::new(units)
+    }
+    fn is_valid_scale(_: CountScale) -> bool {
+        true
+    }
     #[inline(always)]
-    #[allow(clippy::arithmetic_side_effects)] // Q16 multiplication saturates
-    fn travel_from(self, origin: Self, scale: Q16<K>) -> Q16<K> {
-        Q16::saturating_from_int(self.wrapping_sub(origin)) * scale
+    fn travel_from(self, origin: Self, scale: CountScale) -> Q16<K> {
+        scale.apply(self.wrapping_sub(origin))
     }
 }
 
 /// As for `i32`, on the low 32 bits (see the `f32` implementation).
 impl<const K: usize> Position<Q16<K>> for i64 {
+    type Scale = CountScale;
     #[inline(always)]
     fn is_valid(self) -> bool {
         true
     }
+    fn scale(units: f32) -> Option<CountScale> {
+        CountScale::new(units)
+    }
+    fn is_valid_scale(_: CountScale) -> bool {
+        true
+    }
     #[inline(always)]
-    #[allow(clippy::arithmetic_side_effects)] // Q16 multiplication saturates
-    fn travel_from(self, origin: Self, scale: Q16<K>) -> Q16<K> {
-        Q16::saturating_from_int((self as i32).wrapping_sub(origin as i32)) * scale
+    fn travel_from(self, origin: Self, scale: CountScale) -> Q16<K> {
+        scale.apply((self as i32).wrapping_sub(origin as i32))
     }
 }
 
@@ -441,6 +551,72 @@ mod tests {
         for _ in 0..1_000_000 {
             let (a, b) = (next(), next() >> (next() & 31));
             assert_eq!(mul_split(a, b), mul_wide(a, b), "{a} × {b}");
+        }
+    }
+
+    /// The ARMv6-M exact product equals the 64-bit one.
+    #[test]
+    fn exact_split_multiply_matches_wide_multiply() {
+        let mut x: u64 = 0x9e37_79b9_7f4a_7c15;
+        let mut next = || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            x as i32
+        };
+        let extremes = [
+            i32::MIN,
+            i32::MIN + 1,
+            -65536,
+            -1,
+            0,
+            1,
+            65535,
+            65536,
+            i32::MAX,
+        ];
+        for &a in &extremes {
+            for &b in &extremes {
+                assert_eq!(
+                    mul_exact_split(a, b),
+                    i64::from(a) * i64::from(b),
+                    "{a} × {b}"
+                );
+            }
+        }
+        for _ in 0..1_000_000 {
+            let (a, b) = (next(), next() >> (next() & 31));
+            assert_eq!(
+                mul_exact_split(a, b),
+                i64::from(a) * i64::from(b),
+                "{a} × {b}"
+            );
+        }
+    }
+
+    /// A count scale keeps its relative precision from 10 to 10¹⁰ counts
+    /// per z_max and rejects what it cannot hold.
+    #[test]
+    fn count_scale_precision_and_range() {
+        for decade in -10..=4 {
+            // Model units (z_max/256) per count.
+            let units = 256.0 * 10f32.powi(decade);
+            if units >= 32768.0 {
+                assert!(CountScale::new(units).is_none(), "{units}");
+                continue;
+            }
+            let scale = CountScale::new(units).unwrap();
+            assert!((scale.to_f32() / units - 1.0).abs() < 1e-6, "{units}");
+            // 1000 counts, exactly scaled then rounded to the Q16 raw unit.
+            let travel: Q16 = scale.apply(1000);
+            let want = (1000.0 * f64::from(units) * 65536.0).min(f64::from(i32::MAX));
+            assert!(
+                (f64::from(travel.to_bits()) - want).abs() <= 0.5 + want * 1e-7,
+                "{units}"
+            );
+        }
+        for bad in [0.0, -1.0, f32::NAN, f32::INFINITY, 32768.0, 1e-9] {
+            assert!(CountScale::new(bad).is_none(), "{bad}");
         }
     }
 

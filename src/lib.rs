@@ -66,7 +66,7 @@ pub use crate::breakaway::{
     BreakAway, BreakAwayPredictor, PredictError, Variant, DEFAULT_BOUNDARY,
 };
 pub use crate::curves::{shape_f32, CurvesF32};
-pub use crate::fixed_point::{TableCurves, Q16};
+pub use crate::fixed_point::{CountScale, TableCurves, Q16};
 pub use crate::model::Model;
 pub use crate::params::{Param, ParamError, Params};
 pub use crate::position::Position;

@@ -6,6 +6,7 @@
 #![allow(clippy::arithmetic_side_effects)]
 
 use crate::params::{Param, ParamError, Params};
+use crate::position::Position;
 use crate::scalar::{Curves, Scalar, Units};
 
 /// A validated friction model in the number type `T`: the coefficients that
@@ -80,10 +81,13 @@ impl<T: Scalar> Model<T> {
     }
 
     /// The position scale for [`Presliding::new`](crate::Presliding::new):
-    /// model length units per position unit, for positions in units of
-    /// `metres_per_unit` metres (an encoder count, or 1 for metres).
-    pub fn position_scale(&self, metres_per_unit: f32) -> Option<T> {
-        T::from_f32(metres_per_unit / self.units.length).filter(|t| *t > T::ZERO)
+    /// model length units per position unit of type `P`, for positions in
+    /// units of `metres_per_unit` metres (an encoder count, or 1 for metres).
+    /// `None` when the scale is not finite and positive or outside the range
+    /// the number type admits (for [`Q16`](crate::Q16), see
+    /// [`CountScale`](crate::CountScale)).
+    pub fn position_scale<P: Position<T>>(&self, metres_per_unit: f32) -> Option<P::Scale> {
+        P::scale(metres_per_unit / self.units.length)
     }
 
     /// The parameters the model was built from.

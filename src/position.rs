@@ -19,17 +19,42 @@ use crate::scalar::Scalar;
 
 /// A position sample type: how to take the signed travel between two samples.
 pub trait Position<T: Scalar>: Copy {
+    /// The scale from one position unit to the model's length unit (metres
+    /// for `f32` models: an `f32`; for fixed point a
+    /// [`CountScale`](crate::CountScale), which keeps its relative precision
+    /// for any encoder resolution the type admits).
+    type Scale: Copy + core::fmt::Debug + PartialEq;
     /// `false` for a sample that must be rejected (a NaN or infinite float).
     fn is_valid(self) -> bool;
-    /// The travel `self − origin` in metres, given the metres per unit of the
-    /// sample type.
-    fn travel_from(self, origin: Self, metres_per_unit: T) -> T;
+    /// The scale for `units` model length units per position unit; `None`
+    /// when `units` is not finite and positive or outside what the number
+    /// type can represent.
+    fn scale(units: f32) -> Option<Self::Scale>;
+    /// `false` for a scale that [`scale`](Self::scale) would not have made
+    /// (a user-built `f32` that is not finite and positive).
+    fn is_valid_scale(scale: Self::Scale) -> bool;
+    /// The travel `self − origin` in model length units, given the scale of
+    /// the sample type.
+    fn travel_from(self, origin: Self, scale: Self::Scale) -> T;
+}
+
+/// A float scale [m per unit] is valid when finite and positive.
+#[inline]
+fn float_scale(units: f32) -> Option<f32> {
+    (units.is_finite() && units > 0.0).then_some(units)
 }
 
 impl Position<f32> for f32 {
+    type Scale = f32;
     #[inline(always)]
     fn is_valid(self) -> bool {
         self.is_finite()
+    }
+    fn scale(units: f32) -> Option<f32> {
+        float_scale(units)
+    }
+    fn is_valid_scale(scale: f32) -> bool {
+        float_scale(scale).is_some()
     }
     #[inline(always)]
     fn travel_from(self, origin: Self, metres_per_unit: f32) -> f32 {
@@ -38,9 +63,16 @@ impl Position<f32> for f32 {
 }
 
 impl Position<f32> for i32 {
+    type Scale = f32;
     #[inline(always)]
     fn is_valid(self) -> bool {
         true
+    }
+    fn scale(units: f32) -> Option<f32> {
+        float_scale(units)
+    }
+    fn is_valid_scale(scale: f32) -> bool {
+        float_scale(scale).is_some()
     }
     #[inline(always)]
     fn travel_from(self, origin: Self, metres_per_unit: f32) -> f32 {
@@ -56,9 +88,16 @@ impl Position<f32> for i32 {
 /// consecutive samples differ by less than 2³¹ counts. A 64-bit absolute
 /// count therefore stays exact over any travel at the cost of a 32-bit one.
 impl Position<f32> for i64 {
+    type Scale = f32;
     #[inline(always)]
     fn is_valid(self) -> bool {
         true
+    }
+    fn scale(units: f32) -> Option<f32> {
+        float_scale(units)
+    }
+    fn is_valid_scale(scale: f32) -> bool {
+        float_scale(scale).is_some()
     }
     #[inline(always)]
     fn travel_from(self, origin: Self, metres_per_unit: f32) -> f32 {

@@ -111,8 +111,9 @@ impl core::error::Error for ScaleError {}
 /// The state holds no parameters: each [`update`](Self::update) reads them
 /// from a [`Model`], so one model serves many axes.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Presliding<P = f32, T: Scalar = f32, const N: usize = 0> {
-    metres_per_unit: T,
+pub struct Presliding<P: Position<T> = f32, T: Scalar = f32, const N: usize = 0> {
+    /// Model length units per position unit.
+    scale: P::Scale,
     /// d ∈ {−1, 0, +1}; 0 only while idle.
     direction: i8,
     /// Start of the branch in force when the memory is empty.
@@ -141,20 +142,20 @@ impl Presliding<f32, f32, 0> {
 }
 
 impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
-    /// An idle state at `start`, with positions in units of
-    /// `metres_per_unit` model length units: for `f32` models, metres (the
-    /// metres per encoder count, or 1 for positions in metres); for fixed
-    /// point, the value of [`Model::position_scale`](crate::Model::position_scale).
-    pub fn new(start: P, metres_per_unit: T) -> Result<Self, ScaleError> {
-        if !(metres_per_unit.is_finite() && metres_per_unit > T::ZERO) {
+    /// An idle state at `start`, with positions in units of `scale` model
+    /// length units: for `f32` models, metres (the metres per encoder count,
+    /// or 1 for positions in metres); for fixed point, the value of
+    /// [`Model::position_scale`](crate::Model::position_scale).
+    pub fn new(start: P, scale: P::Scale) -> Result<Self, ScaleError> {
+        if !P::is_valid_scale(scale) {
             return Err(ScaleError);
         }
-        Ok(Self::idle(start, metres_per_unit))
+        Ok(Self::idle(start, scale))
     }
 
-    fn idle(start: P, metres_per_unit: T) -> Self {
+    fn idle(start: P, scale: P::Scale) -> Self {
         Self {
-            metres_per_unit,
+            scale,
             direction: 0,
             base: TurningPoint {
                 position: start,
@@ -171,7 +172,7 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
 
     /// Returns to the idle state at `start` (MODEL.md §3: d = 0, H_r = 0).
     pub fn reset(&mut self, start: P) {
-        *self = Self::idle(start, self.metres_per_unit);
+        *self = Self::idle(start, self.scale);
     }
 
     /// Feeds one sample: the position `position` and a velocity estimate
@@ -190,7 +191,7 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
         }
         let viscous = model.sigma * velocity;
         if self.direction == 0 {
-            let moved = position.travel_from(self.base.position, self.metres_per_unit);
+            let moved = position.travel_from(self.base.position, self.scale);
             if moved > T::ZERO {
                 self.direction = 1;
             } else if moved < T::ZERO {
@@ -200,7 +201,7 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
                 return Ok(self.force);
             }
         }
-        let ahead = self.along(position.travel_from(self.extremum, self.metres_per_unit));
+        let ahead = self.along(position.travel_from(self.extremum, self.scale));
         if ahead >= T::ZERO {
             self.extremum = position;
             self.dry = self.follow(model, position, velocity);
@@ -307,7 +308,7 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
         position: P,
         stribeck: T,
     ) -> T {
-        let travel = self.along(position.travel_from(start.position, self.metres_per_unit));
+        let travel = self.along(position.travel_from(start.position, self.scale));
         let w = travel * model.inv_z_max;
         if w < T::ONE {
             let g = model.curves.shape(w);
@@ -338,12 +339,8 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
             let Some(target) = target else {
                 return self.towards_steady_state(model, start, position, stribeck);
             };
-            let travel = self.along(position.travel_from(start.position, self.metres_per_unit));
-            let span = self.along(
-                target
-                    .position
-                    .travel_from(start.position, self.metres_per_unit),
-            );
+            let travel = self.along(position.travel_from(start.position, self.scale));
+            let span = self.along(target.position.travel_from(start.position, self.scale));
             if travel < span {
                 let g = model.curves.shape(travel / span);
                 return start.dry + (target.dry - start.dry) * g;

@@ -29,15 +29,18 @@ fn record(slot: usize, error: f64, case: impl FnOnce() -> String) {
     }
 }
 
-fn friction_error(p: &Params, segments: &[Segment]) -> f64 {
+/// Worst |F − F_ref|/Fs over the samples of `segments` (in steps of
+/// z_max/1000) read by an encoder of `per_z_max` counts per z_max.
+fn friction_error(p: &Params, segments: &[Segment], per_z_max: f64) -> f64 {
     let model = Model::<Fx>::new(*p).expect("parameters within the documented range");
     let judge_model = reference_model(p);
-    let count = p.z_max / 1000.0;
-    let scale = model.position_scale(count).expect("scale in range");
+    let count = (p.z_max as f64 / per_z_max) as f32;
+    let scale = model.position_scale::<i64>(count).expect("scale in range");
     let mut lib = Presliding::<i64, Fx>::new(0, scale).unwrap();
     let mut judge = reference::Presliding::new(0.0);
     let mut worst = 0.0f64;
     for (at, v) in samples(segments) {
+        let at = (at as f64 * per_z_max / 1000.0).round() as i64;
         let v_q = model.velocity(v * p.v_stribeck).expect("velocity in range");
         // The reference sees the velocity the fixed-point model received.
         let v_si = v_q.to_f32() as f64 * p.v_stribeck as f64;
@@ -48,12 +51,39 @@ fn friction_error(p: &Params, segments: &[Segment]) -> f64 {
     worst
 }
 
+/// From 10 to 10⁷ counts per z_max (a 20-bit encoder on a 5 mm screw is
+/// 2 000 counts per z_max = 10 µm): the travel never saturates before it is
+/// scaled, and the scale keeps its precision.
+#[test]
+fn fixed_friction_within_1e_3_fs_at_every_encoder_resolution() {
+    for decade in 1..=7 {
+        let per_z_max = 10f64.powi(decade);
+        let mut runner = runner(40);
+        let worst = std::cell::Cell::new(0.0f64);
+        runner
+            .run(&(params(0.5..2.0), trajectory(64.0)), |(p, segments)| {
+                let error = friction_error(&p, &segments, per_z_max);
+                worst.set(worst.get().max(error));
+                prop_assert!(
+                    error <= 1e-3,
+                    "|ΔF| = {error:e}·Fs at {per_z_max:e} counts per z_max for {p:?}"
+                );
+                Ok(())
+            })
+            .unwrap();
+        println!(
+            "{per_z_max:.0e} counts per z_max: worst |ΔF| = {:.3e}·Fs",
+            worst.get()
+        );
+    }
+}
+
 #[test]
 fn fixed_friction_matches_reference_within_1e_3_fs() {
     let mut runner = runner(300);
     runner
         .run(&(params(0.5..2.0), trajectory(64.0)), |(p, segments)| {
-            let error = friction_error(&p, &segments);
+            let error = friction_error(&p, &segments, 1000.0);
             record(0, error, || format!("{p:?}"));
             prop_assert!(error <= 1e-3, "|ΔF| = {error:e}·Fs for {p:?}");
             Ok(())
@@ -140,11 +170,11 @@ fn construction_rejects_what_does_not_fit_naming_the_parameter() {
         Model::<Fx>::new(p).unwrap_err(),
         ParamError::OutOfRange(Param::Fc)
     );
-    // Encoder counts coarser than 128·z_max or finer than z_max/2²⁴.
+    // Encoder counts coarser than 128·z_max or finer than z_max/2³⁴.
     let m = Model::<Fx>::new(paper()).unwrap();
-    assert!(m.position_scale(1.0).is_none());
-    assert!(m.position_scale(1e-13).is_none());
-    assert!(m.position_scale(1e-8).is_some());
+    assert!(m.position_scale::<i32>(1.0).is_none());
+    assert!(m.position_scale::<i32>(1e-16).is_none());
+    assert!(m.position_scale::<i32>(1e-8).is_some());
 }
 
 #[test]
@@ -155,7 +185,7 @@ fn extreme_samples_saturate_and_never_panic() {
         ..paper()
     };
     let model = Model::<Fx>::new(p).unwrap();
-    let scale = model.position_scale(1e-8).unwrap();
+    let scale = model.position_scale::<i32>(1e-8).unwrap();
     let mut axis = Presliding::<i32, Fx>::new(0, scale).unwrap();
     let extremes = [i32::MIN, i32::MAX, 0, -1, 1, i32::MAX, i32::MIN + 1];
     let speeds = [

@@ -113,7 +113,7 @@ fn thousand_metres_then_a_two_micrometre_reversal() {
     let count = 1e-8f32;
     let mut lib = Presliding::<i64>::new(0, count).unwrap();
     let mut lib_fixed =
-        Presliding::<i64, Q16>::new(0, fixed.position_scale(count).unwrap()).unwrap();
+        Presliding::<i64, Q16>::new(0, fixed.position_scale::<i64>(count).unwrap()).unwrap();
     let mut judge = reference::Presliding::new(0.0);
     let v_out = 1.0f32; // 1 m/s
     let mut x = 0i64;

@@ -25,7 +25,7 @@ fuzz_target!(|data: &[u8]| {
     };
     let mut fixed_axis = fixed
         .as_ref()
-        .and_then(|m| m.position_scale(scale))
+        .and_then(|m| m.position_scale::<i32>(scale))
         .and_then(|s| Presliding::<i32, Q16, 2>::new(0, s).ok());
     // |H| ≤ Fs up to the rounding of H_r + (d·S − H_r)·g.
     let fs_bound = params.fs * (1.0 + 4.0 * f32::EPSILON);

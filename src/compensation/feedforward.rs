@@ -55,14 +55,14 @@ impl Default for FeedforwardConfig {
 /// counts), `N` its turning-point memory (0: the reference rule of
 /// MODEL.md §3; N > 0 closes minor loops).
 #[derive(Clone, Debug, PartialEq)]
-pub struct Feedforward<P = f32, const N: usize = 0> {
+pub struct Feedforward<P: Position<f32, Scale = f32> = f32, const N: usize = 0> {
     config: FeedforwardConfig,
     state: Presliding<P, f32, N>,
     scale: f32,
     force: f32,
 }
 
-impl<P: Position<f32>, const N: usize> Feedforward<P, N> {
+impl<P: Position<f32, Scale = f32>, const N: usize> Feedforward<P, N> {
     /// A feedforward idle at the reference position `start`, positions in
     /// units of `metres_per_unit` metres.
     ///

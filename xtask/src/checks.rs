@@ -159,18 +159,32 @@ pub fn presliding_loop(target: Target) -> Result<String, String> {
     ))
 }
 
-/// Every on-target check on every target.
-pub fn all() -> Result<Vec<String>, String> {
+/// Every on-target check on every target, or those whose name contains one
+/// of `only` (all when `only` is empty).
+pub fn all(only: &[String]) -> Result<Vec<String>, String> {
+    type Check = fn(Target) -> Result<String, String>;
+    let per_target: [(&str, Check); 4] = [
+        ("no_panic", no_panic),
+        ("breakaway_table", breakaway_table),
+        ("presliding_loop", presliding_loop),
+        ("fixed_point", fixed_point),
+    ];
+    // Cortex-M4F only (the closed loop simulates 40 s of plant in 5 µs steps).
+    let m4f_only: [(&str, Check); 2] = [("long_run", long_run), ("closed_loop", closed_loop)];
+    let wanted = |name: &str| only.is_empty() || only.iter().any(|o| name.contains(o.as_str()));
     let mut report = Vec::new();
     for target in qemu::TARGETS {
-        report.push(no_panic(target)?);
-        report.push(breakaway_table(target)?);
-        report.push(presliding_loop(target)?);
-        report.push(fixed_point(target)?);
+        for (name, check) in per_target {
+            if wanted(name) {
+                report.push(check(target)?);
+            }
+        }
     }
-    report.push(long_run(qemu::TARGETS[0])?);
-    // Cortex-M4F only: the loop simulates 40 s of plant in 5 µs steps.
-    report.push(closed_loop(qemu::TARGETS[0])?);
+    for (name, check) in m4f_only {
+        if wanted(name) {
+            report.push(check(qemu::TARGETS[0])?);
+        }
+    }
     Ok(report)
 }
 
@@ -185,27 +199,36 @@ pub fn fixed_point(target: Target) -> Result<String, String> {
     let model = fig5()?;
     let raw = |fields: &[&str], i: usize, line: &str| field(fields, i, line).map(|x| x / 65536.0);
     let samples = records(&output, "s")?;
-    if samples.len() != 600 {
+    let resolutions = [10.0, 1e3, 1e5, 1e7];
+    if samples.len() != 600 * resolutions.len() {
         return Err(format!(
-            "fixed_point printed {} samples, expected 600",
-            samples.len()
+            "fixed_point printed {} samples, expected {}",
+            samples.len(),
+            600 * resolutions.len()
         ));
     }
-    let count = 1e-8f32 as f64;
-    let mut judge = reference::Presliding::new(0.0);
     let mut worst_f = 0.0f64;
-    for (line, fields) in &samples {
-        let position = field(fields, 1, line)?;
-        let v = raw(fields, 2, line)? * model.v_stribeck;
-        let f = raw(fields, 3, line)? * model.fs;
-        let want = judge.update(&model, position * count, v);
-        let error = (f - want).abs() / model.fs;
-        worst_f = worst_f.max(error);
-        if error.is_nan() || error > FIXED_FRICTION_BOUND {
-            return Err(format!(
-                "{}: `{line}`: F = {f}, reference {want} ({error:.2e}·Fs)",
-                target.core
-            ));
+    for (chunk, per_z_max) in samples.chunks(600).zip(resolutions) {
+        let count = (model.z_max as f32 / per_z_max as f32) as f64;
+        let mut judge = reference::Presliding::new(0.0);
+        for (line, fields) in chunk {
+            if field(fields, 1, line)? != per_z_max {
+                return Err(format!(
+                    "fixed_point: `{line}`: expected {per_z_max:e} counts per z_max"
+                ));
+            }
+            let position = field(fields, 2, line)?;
+            let v = raw(fields, 3, line)? * model.v_stribeck;
+            let f = raw(fields, 4, line)? * model.fs;
+            let want = judge.update(&model, position * count, v);
+            let error = (f - want).abs() / model.fs;
+            worst_f = worst_f.max(error);
+            if error.is_nan() || error > FIXED_FRICTION_BOUND {
+                return Err(format!(
+                    "{}: `{line}`: F = {f}, reference {want} ({error:.2e}·Fs)",
+                    target.core
+                ));
+            }
         }
     }
     let rows = records(&output, "ba")?;
@@ -224,19 +247,36 @@ pub fn fixed_point(target: Target) -> Result<String, String> {
         let k = raw(fields, 2, line)? * model.fs;
         let want = reference::predict_break_away(&model, variant, k, 0.95)
             .map_err(|e| format!("reference: {e}"))?;
-        let f_ba = raw(fields, 4, line)? * model.fs;
-        let error = ((f_ba - want.f_ba) / want.f_ba).abs();
-        worst_ba = worst_ba.max(error);
-        if error.is_nan() || error > FIXED_BREAKAWAY_BOUND {
-            return Err(format!(
-                "{}: `{line}`: F_ba = {f_ba}, reference {} (rel. error {error:.2e})",
-                target.core, want.f_ba
-            ));
+        // (name, value, reference, unit of the printed raw value)
+        let got = [
+            ("v_b", raw(fields, 3, line)?, want.v_b, model.v_stribeck),
+            ("F_ba", raw(fields, 4, line)?, want.f_ba, model.fs),
+            ("t_ba", raw(fields, 5, line)?, want.t_ba, 1.0),
+        ];
+        for (name, value, reference, unit) in got {
+            let value = value * unit;
+            // 1e-3 relative, or within one unit of the Q16.16 resolution the
+            // value is printed in (v_b below 0.015·V has fewer than 1000
+            // raw units).
+            let error = ((value - reference) / reference).abs();
+            let resolution = unit / 65536.0;
+            if (value - reference).abs() > resolution {
+                worst_ba = worst_ba.max(error);
+            }
+            if error.is_nan()
+                || (error > FIXED_BREAKAWAY_BOUND && (value - reference).abs() > resolution)
+            {
+                return Err(format!(
+                    "{}: `{line}`: {name} = {value}, reference {reference} (rel. error {error:.2e})",
+                    target.core
+                ));
+            }
         }
     }
     Ok(format!(
-        "fixed_point on {}: {} samples, worst |F − F_ref| {worst_f:.2e}·Fs (bound {FIXED_FRICTION_BOUND:.0e}); \
-         {} break-away rows, worst F_ba rel. error {worst_ba:.2e} (bound {FIXED_BREAKAWAY_BOUND:.0e})",
+        "fixed_point on {}: {} samples at 10 to 10^7 counts per z_max, worst |F − F_ref| {worst_f:.2e}·Fs \
+         (bound {FIXED_FRICTION_BOUND:.0e}); {} break-away rows, worst v_b/F_ba/t_ba rel. error {worst_ba:.2e} \
+         (bound {FIXED_BREAKAWAY_BOUND:.0e}, or one Q16 unit)",
         target.core,
         samples.len(),
         rows.len()
@@ -353,7 +393,7 @@ pub fn long_run(target: Target) -> Result<String, String> {
     };
     let (mut x, mut target_x, mut step, mut v) = (0i64, 0i64, 1i64, 0.0f32);
     let mut rows = rows.iter().peekable();
-    let mut worst = 0.0f64;
+    let (mut worst, mut compared) = (0.0f64, 0usize);
     for n in 0..1_000_000u64 {
         if x == target_x {
             let len = 1 + below(3000) as i64;
@@ -377,6 +417,7 @@ pub fn long_run(target: Target) -> Result<String, String> {
             let f = field(fields, 4, line)?;
             let error = (f - want).abs() / model.fs;
             worst = worst.max(error);
+            compared += 1;
             if error.is_nan() || error > FRICTION_BOUND {
                 return Err(format!(
                     "{}: long_run `{line}`: F = {f}, reference {want} ({error:.2e}·Fs)",
@@ -384,6 +425,16 @@ pub fn long_run(target: Target) -> Result<String, String> {
                 ));
             }
         }
+    }
+    if let Some((line, _)) = rows.next() {
+        return Err(format!(
+            "long_run: `{line}` matches no sample of the replay"
+        ));
+    }
+    if compared != 101 {
+        return Err(format!(
+            "long_run: {compared} samples compared, expected 101"
+        ));
     }
     let stat = records(&output, "stat")?;
     let max_h = stat
@@ -395,7 +446,7 @@ pub fn long_run(target: Target) -> Result<String, String> {
         return Err(format!("long_run: |H| reached {max_h}, above Fs"));
     }
     Ok(format!(
-        "long_run on {}: 10^6 samples, 101 compared (last included), worst |ΔF| {worst:.2e}·Fs \
+        "long_run on {}: 10^6 samples, {compared} compared (last included), worst |ΔF| {worst:.2e}·Fs \
          (bound {FRICTION_BOUND:.0e}), closing |H| ≤ {max_h}",
         target.core
     ))

@@ -8,6 +8,7 @@
 //! - `cargo xtask demo` sets up and runs the demo.
 //! - `cargo xtask test` sets up and runs every check, the on-target checks
 //!   under QEMU included.
+//! - `cargo xtask qemu [NAME…]` runs the on-target checks (or those named).
 //! - `cargo xtask profile` counts instructions per call under QEMU.
 
 mod checks;
@@ -20,10 +21,11 @@ use std::env;
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
 
-const USAGE: &str = "usage: cargo xtask <setup|demo|test|profile|fuzz|sweep>
+const USAGE: &str = "usage: cargo xtask <setup|demo|test|qemu|profile|fuzz|sweep>
   setup    install the rustup targets, rustfmt, clippy and qemu-system-arm (where allowed)
   demo     set up, then run the firmware examples on the Cortex-M4F under QEMU
   test     set up, then run every check (fmt, clippy, host tests, on-target checks)
+  qemu     [NAME…]  the on-target checks under QEMU (those whose name contains NAME)
   profile  [--target T] [--budget-hz 20000] [--cpu-hz 168000000] [--json]
            instructions per call of the hot functions under QEMU
   fuzz     [--seconds 60] [--target NAME]  the cargo-fuzz targets (nightly)
@@ -36,6 +38,9 @@ fn main() -> ExitCode {
         Some("setup") => setup(),
         Some("demo") => setup().and_then(|()| demo()),
         Some("test") => setup().and_then(|()| test()),
+        Some("qemu") => setup().and_then(|()| {
+            checks::all(&args[1..]).map(|lines| lines.iter().for_each(|l| println!("{l}")))
+        }),
         Some("profile") => profile::Options::parse(&args[1..])
             .and_then(|o| setup().and_then(|()| profile::run(&o))),
         Some("fuzz") => fuzz::Options::parse(&args[1..])
@@ -255,7 +260,7 @@ fn test() -> Result<(), String> {
     // generator's records (the full sweep: `cargo xtask sweep`).
     sweep::smoke()?;
     // On-target checks under QEMU against the host f64 reference.
-    for line in checks::all()? {
+    for line in checks::all(&[])? {
         println!("on-target: {line}");
     }
     profile::check_targets()?;
