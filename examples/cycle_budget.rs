@@ -7,6 +7,12 @@
 //! The update trajectory spends half of its samples in presliding (a small
 //! oscillation of ±0.4·z_max) and half in gross sliding (a 5 mm/s stroke).
 //!
+//! Each row is one *pass* (a function that calls its wrapper over the
+//! row's inputs). After the counted passes, `stack_pass` runs every pass
+//! again with the free stack painted and prints `stack <row> <bytes>`: the
+//! deepest the wrapper and everything it called reached below the stack
+//! pointer of the call (the instruction count stops at `stack_pass`).
+//!
 //! On hardware the example also times one update with the DWT cycle counter
 //! (`breakaway::cycles`); under QEMU that counter reads 0 and the example
 //! says so instead of printing a figure.
@@ -20,7 +26,8 @@ mod common;
 use core::hint::black_box;
 
 use breakaway::{
-    shape_f32, BreakAway, BreakAwayPredictor, Model, Presliding, Scalar, Variant, Q16,
+    shape_f32, BreakAway, BreakAwayPredictor, CountScale, Model, Params, Presliding, Scalar,
+    Variant, Q16,
 };
 use cortex_m_rt::entry;
 use cortex_m_semihosting::hprintln;
@@ -165,40 +172,70 @@ fn dwt_note(_: &mut Presliding<i64>, _: &Model) {
 }
 
 /// Position in counts at sample `n`: ±0.4·z_max oscillation, then a stroke.
-fn trajectory(n: i32) -> i64 {
+fn trajectory(n: i32) -> i32 {
     if n < HALF {
         let phase = 2.0 * core::f32::consts::PI * n as f32 / 50.0;
-        libm::roundf(400.0 * libm::sinf(phase)) as i64
+        libm::roundf(400.0 * libm::sinf(phase)) as i32
     } else {
-        (n - HALF) as i64 * 500 // 5 µm per sample: 5 mm/s
+        (n - HALF) * 500 // 5 µm per sample: 5 mm/s
     }
 }
 
-#[entry]
-fn main() -> ! {
-    let Ok(model) = Model::<f32>::new(common::FIG5) else {
-        common::exit_failure("invalid parameters");
-    };
-    let Ok(predictor) = BreakAwayPredictor::new(&model, 0.95) else {
-        common::exit_failure("invalid boundary");
-    };
+#[no_mangle]
+#[inline(never)]
+fn bench_new_model_f32(params: Params) -> Option<Model> {
+    Model::<f32>::new(params).ok()
+}
+
+/// Construction in place, the way for a small MCU: the model's storage is
+/// the caller's, the S table is built where it lives.
+#[no_mangle]
+#[inline(never)]
+fn bench_new_model_fixed(model: &mut Model<Q16>, params: Params) -> bool {
+    *model = Model::UNIT_COULOMB;
+    model.set_params(params).is_ok()
+}
+
+/// What the passes share: the models and predictors of both number types.
+struct Bench {
+    model: Model,
+    predictor: BreakAwayPredictor<f32>,
+    fixed: Model<Q16>,
+    fixed_predictor: BreakAwayPredictor<Q16>,
+    scale: CountScale,
+    /// Model velocity units per count per sample.
+    per_count: Q16,
+    /// The update trajectory [counts], computed once (its `sinf` is not
+    /// part of any row).
+    counts: [i32; 2 * HALF as usize],
+}
+
+/// The stack pointer in the caller's frame: the wrappers are called at it.
+#[inline(always)]
+fn sp() -> usize {
+    cortex_m::register::msp::read() as usize
+}
+
+/// A pass calls one wrapper over its row's inputs and returns the stack
+/// pointer it called it at, and a checksum.
+type Pass = fn(&Bench) -> (usize, f32);
+
+fn pass_update_f32(b: &Bench) -> (usize, f32) {
     let Ok(mut axis) = Presliding::<i64>::new(0, COUNT) else {
         common::exit_failure("invalid scale");
     };
-    let Ok(fixed) = Model::<Q16>::new(common::FIG5) else {
-        common::exit_failure("invalid fixed-point model");
-    };
-    let Some(scale) = fixed.position_scale::<i32>(COUNT) else {
-        common::exit_failure("encoder scale out of range");
-    };
-    let (Ok(mut fixed_axis), Ok(fixed_predictor), Some(per_count)) = (
-        Presliding::<i32, Q16>::new(0, scale),
-        BreakAwayPredictor::new(&fixed, 0.95),
-        fixed.velocity(COUNT / DT),
-    ) else {
-        common::exit_failure("invalid fixed-point set-up");
-    };
-    let p = common::FIG5;
+    let (mut last, mut sum) = (0, 0.0);
+    for n in 0..2 * HALF {
+        let count = i64::from(b.counts[n as usize]);
+        let v = (count - last) as f32 * COUNT / DT;
+        last = count;
+        sum += bench_update_f32(&mut axis, &b.model, black_box(count), black_box(v));
+    }
+    (sp(), sum)
+}
+
+fn pass_naive_libm_update(b: &Bench) -> (usize, f32) {
+    let p = b.model.params();
     let mut plain = naive::Naive {
         fc: p.fc,
         fs: p.fs,
@@ -212,44 +249,203 @@ fn main() -> ! {
         h_r: 0.0,
         h_ext: 0.0,
     };
-    let mut last = 0;
-    let mut last_fixed = 0;
-    let mut check = 0.0f32;
+    let (mut last, mut sum) = (0, 0.0);
     for n in 0..2 * HALF {
-        let count = trajectory(n);
+        let count = i64::from(b.counts[n as usize]);
         let v = (count - last) as f32 * COUNT / DT;
         last = count;
-        let f = bench_update_f32(&mut axis, &model, black_box(count), black_box(v));
-        let g = bench_naive_libm_update(&mut plain, black_box(count as f32 * COUNT), black_box(v));
-        check += black_box(f) - black_box(g);
-        let v_fixed = Q16::saturating_from_int((count - last_fixed) as i32) * per_count;
-        last_fixed = count;
-        black_box(bench_update_fixed(
-            &mut fixed_axis,
-            &fixed,
-            black_box(count as i32),
-            black_box(v_fixed),
-        ));
-        black_box(bench_stribeck_f32(&model, black_box(v)));
-        black_box(bench_shape_f32(black_box(
-            (n as f32 + 0.5) / (2 * HALF) as f32,
-        )));
+        sum += bench_naive_libm_update(&mut plain, black_box(count as f32 * COUNT), black_box(v));
     }
+    (sp(), sum)
+}
+
+fn pass_update_fixed(b: &Bench) -> (usize, f32) {
+    let Ok(mut axis) = Presliding::<i32, Q16>::new(0, b.scale) else {
+        common::exit_failure("invalid scale");
+    };
+    let (mut last, mut sum) = (0, 0.0);
+    for n in 0..2 * HALF {
+        let count = i64::from(b.counts[n as usize]);
+        let v = Q16::saturating_from_int((count - last) as i32) * b.per_count;
+        last = count;
+        let f = bench_update_fixed(&mut axis, &b.fixed, black_box(count as i32), black_box(v));
+        sum += f.to_f32();
+    }
+    (sp(), sum)
+}
+
+fn pass_stribeck_f32(b: &Bench) -> (usize, f32) {
+    let (mut last, mut sum) = (0, 0.0);
+    for n in 0..2 * HALF {
+        let count = i64::from(b.counts[n as usize]);
+        let v = (count - last) as f32 * COUNT / DT;
+        last = count;
+        sum += bench_stribeck_f32(&b.model, black_box(v));
+    }
+    (sp(), sum)
+}
+
+fn pass_shape_f32(_: &Bench) -> (usize, f32) {
+    let mut sum = 0.0;
+    for n in 0..2 * HALF {
+        sum += bench_shape_f32(black_box((n as f32 + 0.5) / (2 * HALF) as f32));
+    }
+    (sp(), sum)
+}
+
+/// k from 0.01 to 30 N/s, log-spaced.
+fn rate(i: i32) -> f32 {
+    0.01 * libm::powf(3000.0, i as f32 / 63.0)
+}
+
+fn pass_breakaway_f32(b: &Bench) -> (usize, f32) {
+    let mut sum = 0.0;
     for i in 0..64 {
-        // k from 0.01 to 30 N/s, log-spaced.
-        let k = 0.01 * libm::powf(3000.0, i as f32 / 63.0);
-        black_box(bench_breakaway_f32(&predictor, &model, black_box(k)));
-        if let Some(k) = Q16::from_f32(k / p.fs) {
-            black_box(bench_breakaway_fixed(
-                &fixed_predictor,
-                &fixed,
-                black_box(k),
-            ));
+        if let Some(ba) = bench_breakaway_f32(&b.predictor, &b.model, black_box(rate(i))) {
+            sum += ba.f_ba;
         }
     }
+    (sp(), sum)
+}
+
+fn pass_breakaway_fixed(b: &Bench) -> (usize, f32) {
+    let mut sum = 0.0;
+    for i in 0..64 {
+        if let Some(k) = Q16::from_f32(rate(i) / b.model.params().fs) {
+            if let Some(ba) = bench_breakaway_fixed(&b.fixed_predictor, &b.fixed, black_box(k)) {
+                sum += ba.f_ba.to_f32();
+            }
+        }
+    }
+    (sp(), sum)
+}
+
+fn pass_new_model_f32(b: &Bench) -> (usize, f32) {
+    let model = bench_new_model_f32(black_box(*b.model.params()));
+    (sp(), model.map_or(0.0, |m| m.stribeck(1e-3)))
+}
+
+fn pass_new_model_fixed(b: &Bench) -> (usize, f32) {
+    let mut model = Model::<Q16>::UNIT_COULOMB;
+    let built = bench_new_model_fixed(&mut model, black_box(*b.model.params()));
+    (
+        sp(),
+        if built {
+            model.stribeck(Q16::ONE).to_f32()
+        } else {
+            0.0
+        },
+    )
+}
+
+/// Every row's pass, by the name `cargo xtask profile` reports.
+const PASSES: [(&str, Pass); 9] = [
+    ("update_f32", pass_update_f32),
+    ("stribeck_f32", pass_stribeck_f32),
+    ("shape_f32", pass_shape_f32),
+    ("breakaway_f32", pass_breakaway_f32),
+    ("naive_libm_update", pass_naive_libm_update),
+    ("update_fixed", pass_update_fixed),
+    ("breakaway_fixed", pass_breakaway_fixed),
+    ("new_model_f32", pass_new_model_f32),
+    ("new_model_fixed", pass_new_model_fixed),
+];
+
+/// Stack painting: the free RAM between the end of the static data and the
+/// painter's own frame is filled with a pattern; after a pass, the lowest
+/// word that no longer holds it is the deepest the pass reached.
+mod stack {
+    use core::ptr::{addr_of, read_volatile, write_volatile};
+    use core::sync::atomic::{AtomicUsize, Ordering};
+
+    const PATTERN: u32 = 0xA5C3_5A3C;
+    /// At most this much below the stack pointer is painted (the
+    /// Cortex-M4F machine has 4 MiB of RAM; the passes need far less).
+    const SPAN: usize = 32 * 1024;
+
+    /// The lowest painted address.
+    static BOTTOM: AtomicUsize = AtomicUsize::new(0);
+
+    extern "C" {
+        /// cortex-m-rt: the first free word after the static data.
+        static __sheap: u32;
+    }
+
+    /// Paints from the bottom of the free RAM (at most `SPAN` below) up to
+    /// just below this function's own frame.
+    #[inline(never)]
+    pub fn paint() {
+        let top = super::sp().saturating_sub(8) & !3;
+        // Only the address of the linker symbol is taken.
+        let heap = addr_of!(__sheap) as usize;
+        let bottom = heap.max(top.saturating_sub(SPAN)) & !3;
+        BOTTOM.store(bottom, Ordering::Relaxed);
+        let mut at = bottom;
+        while at < top {
+            // SAFETY: [bottom, top) is free RAM below every live frame.
+            unsafe { write_volatile(at as *mut u32, PATTERN) };
+            at += 4;
+        }
+    }
+
+    /// Bytes used below `sp` since the last `paint` (`sp` at or below the
+    /// painter's caller, above the painted bottom).
+    #[inline(never)]
+    pub fn used_below(sp: usize) -> usize {
+        let mut at = BOTTOM.load(Ordering::Relaxed);
+        // SAFETY: reads of painted RAM below the live frames.
+        while at < sp && unsafe { read_volatile(at as *const u32) } == PATTERN {
+            at += 4;
+        }
+        sp.saturating_sub(at)
+    }
+}
+
+/// Every pass again with the stack painted (not counted by the profile).
+#[no_mangle]
+#[inline(never)]
+fn stack_pass(bench: &Bench) {
+    for (name, pass) in PASSES {
+        stack::paint();
+        let (sp, _) = pass(bench);
+        hprintln!("stack {} {}", name, stack::used_below(sp));
+    }
+}
+
+#[entry]
+fn main() -> ! {
+    let p = common::FIG5;
+    let mut fixed = Model::<Q16>::UNIT_COULOMB;
+    let (Ok(model), Ok(())) = (Model::<f32>::new(p), fixed.set_params(p)) else {
+        common::exit_failure("invalid parameters");
+    };
+    let (Ok(predictor), Ok(fixed_predictor), Some(scale), Some(per_count)) = (
+        BreakAwayPredictor::new(&model, 0.95),
+        BreakAwayPredictor::new(&fixed, 0.95),
+        fixed.position_scale::<i32>(COUNT),
+        fixed.velocity(COUNT / DT),
+    ) else {
+        common::exit_failure("invalid set-up");
+    };
+    let bench = Bench {
+        model,
+        predictor,
+        fixed,
+        fixed_predictor,
+        scale,
+        per_count,
+        counts: core::array::from_fn(|n| trajectory(n as i32)),
+    };
+    let mut sums = [0.0f32; PASSES.len()];
+    for (sum, (_, pass)) in sums.iter_mut().zip(PASSES) {
+        *sum = black_box(pass(&bench).1);
+    }
     // The anchor and the library agree (same model, same samples).
-    hprintln!("anchor mismatch sum {}", check);
-    dwt_note(&mut axis, &model);
+    hprintln!("anchor mismatch sum {}", sums[0] - sums[4]);
+    stack_pass(&bench);
+    let mut axis =
+        Presliding::<i64>::new(0, COUNT).unwrap_or_else(|_| common::exit_failure("invalid scale"));
+    dwt_note(&mut axis, &bench.model);
     hprintln!("done");
     common::exit_success()
 }

@@ -35,16 +35,17 @@ pub struct CurvesF32 {
 }
 
 impl Curves<f32> for CurvesF32 {
-    fn new(p: &Params) -> Result<Self, ParamError> {
-        let inv_v = 1.0 / p.v_stribeck;
-        if !inv_v.is_finite() {
+    fn check(p: &Params) -> Result<(), ParamError> {
+        if !(1.0 / p.v_stribeck).is_finite() {
             return Err(ParamError::OutOfRange(Param::VStribeck));
         }
-        // Keeps H_r + (d·S − H_r)·g and H + σ·v clear of overflow.
-        let rise = p.fs - p.fc;
         if p.fs > f32::MAX / 4.0 {
             return Err(ParamError::OutOfRange(Param::Fs));
         }
+        Ok(())
+    }
+
+    fn build(p: &Params) -> Self {
         let delta = if p.delta == 0.5 {
             Exponent::Half
         } else if p.delta == 1.0 {
@@ -54,12 +55,12 @@ impl Curves<f32> for CurvesF32 {
         } else {
             Exponent::General(p.delta)
         };
-        Ok(Self {
+        Self {
             fc: p.fc,
-            rise,
-            inv_v,
+            rise: p.fs - p.fc,
+            inv_v: 1.0 / p.v_stribeck,
             delta,
-        })
+        }
     }
 
     #[inline(always)]

@@ -64,7 +64,8 @@ use core::ops::{Add, Div, Mul, Neg, Sub};
 
 use fixed::types::I16F16;
 
-use crate::params::{Param, ParamError, Params};
+use crate::model::Model;
+use crate::params::{ParamError, Params};
 use crate::position::Position;
 use crate::scalar::{Curves, Scalar, Units};
 
@@ -76,6 +77,9 @@ use crate::scalar::{Curves, Scalar, Units};
 pub struct Q16<const K: usize = 16>(pub I16F16);
 
 impl<const K: usize> Q16<K> {
+    /// 1/256: z_max⁻¹ in units of (z_max/256)⁻¹.
+    const ONE_OVER_256: Self = Self::from_bits(1 << 8);
+
     /// The raw two's-complement bits (value × 2¹⁶).
     #[inline(always)]
     pub const fn to_bits(self) -> i32 {
@@ -231,6 +235,7 @@ impl<const K: usize> Neg for Q16<K> {
 impl<const K: usize> Scalar for Q16<K> {
     const ZERO: Self = Self(I16F16::ZERO);
     const ONE: Self = Self(I16F16::ONE);
+    const MAX: Self = Self(I16F16::MAX);
     /// 2⁻¹³: a few units of the resolution.
     const TOLERANCE: Self = Self(I16F16::from_bits(8));
     type Curves = TableCurves<K>;
@@ -260,6 +265,41 @@ impl<const K: usize> Scalar for Q16<K> {
             length: params.z_max / LENGTH_STEPS_PER_Z_MAX,
         }
     }
+}
+
+impl<const K: usize> Model<Q16<K>> {
+    /// A valid model to fill in place with [`Model::set_params`]: the unit
+    /// Coulomb model Fc = Fs = 1 N, V = 1 m/s, δ = 1, σ = 0, z_max = 1 m,
+    /// ε = 0. A `const`, so that it is written straight into a `static` or
+    /// a local: on a small MCU the S table (31·K·2 bytes) then never passes
+    /// through the stack.
+    ///
+    /// ```
+    /// use breakaway::{Model, Params, Q16};
+    /// let mut model = Model::<Q16>::UNIT_COULOMB;
+    /// model.set_params(Params { fc: 1.0, fs: 1.5, v_stribeck: 1e-3, delta: 1.0,
+    ///                           sigma: 0.0, z_max: 1e-5, epsilon: 0.0 })?;
+    /// assert_eq!(model.params().fs, 1.5);
+    /// # Ok::<(), breakaway::ParamError>(())
+    /// ```
+    pub const UNIT_COULOMB: Self = Self::from_parts(
+        Params {
+            fc: 1.0,
+            fs: 1.0,
+            v_stribeck: 1.0,
+            delta: 1.0,
+            sigma: 0.0,
+            z_max: 1.0,
+            epsilon: 0.0,
+        },
+        Units {
+            force: 1.0,
+            velocity: 1.0,
+            length: 1.0 / LENGTH_STEPS_PER_Z_MAX,
+        },
+        TableCurves::COULOMB,
+        [Q16::ONE, Q16::ONE, Q16::ZERO, Q16::ONE_OVER_256, Q16::ZERO],
+    );
 }
 
 /// Model length units per z_max.
@@ -330,20 +370,46 @@ impl CountScale {
     }
 
     /// `counts` × the scale in raw Q16.16 units, rounded to nearest and
-    /// saturated: one exact 64-bit product and one shift (|counts·mantissa|
-    /// < 2⁶², so nothing overflows before the shift).
+    /// saturated: one exact 64-bit product (|counts·mantissa| < 2⁶², so
+    /// nothing overflows) and one rounding shift on its 32-bit halves.
     #[inline(always)]
     fn apply<const K: usize>(self, counts: i32) -> Q16<K> {
         #[cfg(not(breakaway_armv6m))]
         let product = i64::from(counts).wrapping_mul(i64::from(self.mantissa));
         #[cfg(breakaway_armv6m)]
         let product = mul_exact_split(counts, self.mantissa);
-        let rounded = if self.shift == 0 {
-            product
+        Q16::from_bits(if self.shift == 0 {
+            saturate_i32(product)
         } else {
-            product.wrapping_add(1 << self.shift.wrapping_sub(1)) >> self.shift
-        };
-        Q16::from_bits(saturate_i32(rounded))
+            shift_round((product >> 32) as i32, product as u32, self.shift)
+        })
+    }
+}
+
+/// round((hi·2³² + lo) / 2ˢ) for s in 1..=40, saturated to `i32`, with
+/// 32-bit shifts only (a variable 64-bit shift is a library call on
+/// ARMv6-M): q = x >> (s − 1), then (q + 1) >> 1. |x| < 2⁶², so q + 1
+/// cannot overflow.
+#[inline(always)]
+fn shift_round(hi: i32, lo: u32, s: u32) -> i32 {
+    let t = s.wrapping_sub(1);
+    let (q_hi, q_lo) = if t == 0 {
+        (hi, lo)
+    } else if t < 32 {
+        (hi >> t, (lo >> t) | ((hi as u32) << 32u32.wrapping_sub(t)))
+    } else {
+        (hi >> 31, (hi >> t.wrapping_sub(32)) as u32)
+    };
+    let (r_lo, carry) = q_lo.overflowing_add(1);
+    let r_hi = q_hi.wrapping_add(i32::from(carry));
+    let low = ((r_lo >> 1) | ((r_hi as u32) << 31)) as i32;
+    let high = r_hi >> 1;
+    if high == low >> 31 {
+        low
+    } else if high < 0 {
+        i32::MIN
+    } else {
+        i32::MAX
     }
 }
 
@@ -406,42 +472,45 @@ static SHAPE: OctaveTable<SHAPE_K, SHAPE_OCTAVES> = OctaveTable {
 struct OctaveTable<const K: usize, const E: usize> {
     /// f(0).
     zero: i32,
-    /// f at raw 2ᵉ·(1 + j/K), row e, column j.
-    rows: [[i32; K]; E],
+    /// 2¹⁶ − f at raw 2ᵉ·(1 + j/K), row e, column j: both curves take
+    /// values in (0, 1] on the grid, so the complement fits 16 bits (half
+    /// the RAM of a Q16.16 cell, exact).
+    rows: [[u16; K]; E],
     /// f at raw 2^E, the end of the grid.
     end: i32,
+}
+
+/// A grid value of a curve in (0, 1] from its stored complement.
+#[inline(always)]
+fn cell_value(cell: u16) -> i32 {
+    65536i32.wrapping_sub(i32::from(cell))
 }
 
 impl<const K: usize, const E: usize> OctaveTable<K, E> {
     /// log2 K.
     const LOG_K: u32 = K.trailing_zeros();
 
-    /// Tabulates `f` (argument and value as plain numbers); `None` when a
-    /// value does not fit Q16.16.
-    fn build(f: impl Fn(f64) -> f64) -> Option<Self> {
+    /// Tabulates `f` (argument and value as plain numbers) in `f32`, in
+    /// place; values are rounded to Q16.16 and clamped to (0, 1] on the
+    /// grid (the range of both curves there).
+    fn fill(&mut self, f: impl Fn(f32) -> f32) {
         const {
             assert!(
                 K.is_power_of_two() && K >= 4 && K <= 256,
                 "K: a power of two, 4 to 256"
             );
         }
-        let bits = |x: f64| -> Option<i32> {
-            let raw = libm::round(f(x) * 65536.0);
-            (raw.is_finite() && raw >= i32::MIN as f64 && raw <= i32::MAX as f64)
-                .then_some(raw as i32)
-        };
-        let mut rows = [[0; K]; E];
-        for (e, row) in rows.iter_mut().enumerate() {
+        // NaN → 0 and out of range → the end of it: `as` saturates.
+        let bits = |x: f32| -> i32 { libm::roundf(f(x) * 65536.0) as i32 };
+        for (e, row) in self.rows.iter_mut().enumerate() {
             for (j, cell) in row.iter_mut().enumerate() {
-                let raw = libm::ldexp(1.0 + j as f64 / K as f64, e as i32);
-                *cell = bits(raw / 65536.0)?;
+                // 2ᵉ·(1 + j/K) raw units; exact in f32 (e < 32, K ≤ 256).
+                let raw = libm::ldexpf(1.0 + j as f32 / K as f32, e as i32);
+                *cell = 65536i32.wrapping_sub(bits(raw / 65536.0).clamp(1, 65536)) as u16;
             }
         }
-        Some(Self {
-            zero: bits(0.0)?,
-            rows,
-            end: bits(libm::ldexp(1.0, E as i32) / 65536.0)?,
-        })
+        self.zero = bits(0.0);
+        self.end = bits(libm::ldexpf(1.0, E as i32) / 65536.0);
     }
 
     /// f at the raw argument `r` (clamped to the grid), interpolated.
@@ -473,11 +542,13 @@ impl<const K: usize, const E: usize> OctaveTable<K, E> {
         };
         let index = (e as usize).wrapping_mul(K).wrapping_add(j as usize);
         let flat = self.rows.as_flattened();
-        let y0 = flat.get(index).copied().unwrap_or(self.end);
+        let y0 = flat.get(index).map_or(self.end, |&c| cell_value(c));
         if frac14 == 0 {
             return y0;
         }
-        let y1 = flat.get(index.wrapping_add(1)).copied().unwrap_or(self.end);
+        let y1 = flat
+            .get(index.wrapping_add(1))
+            .map_or(self.end, |&c| cell_value(c));
         // |y1 − y0| < 2¹⁷ for the model's curves, so the product fits.
         y0.wrapping_add(y1.wrapping_sub(y0).wrapping_mul(frac14 as i32) >> 14)
     }
@@ -491,13 +562,37 @@ pub struct TableCurves<const K: usize> {
     stribeck: OctaveTable<K, STRIBECK_OCTAVES>,
 }
 
+impl<const K: usize> TableCurves<K> {
+    /// The curves of Fc = Fs: S ≡ 1 (in units of Fs).
+    const COULOMB: Self = Self {
+        stribeck: OctaveTable {
+            zero: 1 << 16,
+            rows: [[0; K]; STRIBECK_OCTAVES],
+            end: 1 << 16,
+        },
+    };
+}
+
 impl<const K: usize> Curves<Q16<K>> for TableCurves<K> {
-    fn new(p: &Params) -> Result<Self, ParamError> {
-        let fc = f64::from(p.fc) / f64::from(p.fs);
-        let delta = f64::from(p.delta);
-        let stribeck = OctaveTable::build(|u| fc + (1.0 - fc) * libm::exp(-libm::pow(u, delta)))
-            .ok_or(ParamError::OutOfRange(Param::Delta))?;
-        Ok(Self { stribeck })
+    /// S takes values in [Fc/Fs, 1] for every valid parameter set: always
+    /// representable.
+    fn check(_: &Params) -> Result<(), ParamError> {
+        Ok(())
+    }
+
+    /// S(u) = Fc/Fs + (1 − Fc/Fs)·exp(−u^δ) tabulated in `f32` (no `f64`
+    /// code is linked).
+    fn build(p: &Params) -> Self {
+        let mut curves = Self::COULOMB;
+        curves.rebuild(p);
+        curves
+    }
+
+    fn rebuild(&mut self, p: &Params) {
+        let fc = p.fc / p.fs;
+        let delta = p.delta;
+        self.stribeck
+            .fill(|u| fc + (1.0 - fc) * libm::expf(-libm::powf(u, delta)));
     }
 
     #[inline(always)]
@@ -591,6 +686,26 @@ mod tests {
                 i64::from(a) * i64::from(b),
                 "{a} × {b}"
             );
+        }
+    }
+
+    /// The 32-bit rounding shift equals the 64-bit one, saturated.
+    #[test]
+    fn shift_round_matches_wide_shift() {
+        let mut x: u64 = 0x2545_f491_4f6c_dd1d;
+        let mut next = || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            x
+        };
+        for _ in 0..1_000_000 {
+            let bits = next();
+            let value = (bits as i64) >> (1 + next() % 63); // |value| < 2⁶²
+            let s = 1 + (next() % 40) as u32;
+            let want = saturate_i32((value + (1i64 << (s - 1))) >> s);
+            let got = shift_round((value >> 32) as i32, value as u32, s);
+            assert_eq!(got, want, "{value} >> {s}");
         }
     }
 

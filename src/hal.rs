@@ -16,13 +16,66 @@
 //! F_full/max (Centered: 2·F_full/max), which sets the smallest presliding
 //! force step the compensation can apply.
 
+// Arithmetic here is on the generic number type `T`, whose operators are
+// total by the `Scalar` contract (IEEE `f32`; saturating `Q16`): no panic, no
+// wrap.
+#![allow(clippy::arithmetic_side_effects)]
+
 use embedded_hal::pwm::SetDutyCycle;
 
 use crate::compensation::{positive, ConfigError, Setting};
+use crate::fixed_point::Q16;
+use crate::scalar::{Scalar, Units};
+
+/// The two conversions between a number and a timer's duty steps that a
+/// [`PwmForce`] needs, for `f32` and [`Q16`] (integer arithmetic only).
+pub trait Duty: Scalar {
+    /// `self` clamped to [0, 1] times `steps`, rounded to nearest.
+    fn of_steps(self, steps: u16) -> u16;
+    /// `duty/steps` (0 for `steps` = 0).
+    fn from_steps(duty: u16, steps: u16) -> Self;
+}
+
+impl Duty for f32 {
+    fn of_steps(self, steps: u16) -> u16 {
+        let fraction = if self > 1.0 {
+            1.0
+        } else if self > 0.0 {
+            self
+        } else {
+            0.0
+        };
+        // In [0, steps]: `as` saturates, never panics.
+        libm::roundf(fraction * f32::from(steps)) as u16
+    }
+    fn from_steps(duty: u16, steps: u16) -> Self {
+        if steps == 0 {
+            0.0
+        } else {
+            f32::from(duty) / f32::from(steps)
+        }
+    }
+}
+
+impl<const K: usize> Duty for Q16<K> {
+    fn of_steps(self, steps: u16) -> u16 {
+        // raw ≤ 2¹⁶ and steps < 2¹⁶: the product and the rounding fit u32.
+        let raw = self.to_bits().clamp(0, 1 << 16) as u32;
+        (raw.wrapping_mul(u32::from(steps)).wrapping_add(1 << 15) >> 16) as u16
+    }
+    fn from_steps(duty: u16, steps: u16) -> Self {
+        match (u32::from(duty) << 16).checked_div(u32::from(steps)) {
+            // duty ≤ steps in use; a larger duty saturates at 32767.
+            Some(raw) => Q16::from_bits(raw.min(i32::MAX as u32) as i32),
+            None => Q16::ZERO,
+        }
+    }
+}
 
 /// How a signed force maps to an unsigned duty cycle.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub enum DutyMode {
     /// 50 % is 0 N; 0 % and 100 % are ∓F_full.
     Centered,
@@ -33,11 +86,12 @@ pub enum DutyMode {
 /// What was written.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct Applied {
+pub struct Applied<T = f32> {
     /// The duty written, 0 … `max_duty_cycle()`.
     pub duty: u16,
-    /// The force [N] this duty represents (after saturation and rounding).
-    pub force: f32,
+    /// The force [N] (model units) this duty represents, after saturation
+    /// and rounding.
+    pub force: T,
     /// The requested force was beyond ±F_full.
     pub saturated: bool,
     /// The force is negative (for `Magnitude`: drive the direction pin).
@@ -47,6 +101,7 @@ pub struct Applied {
 /// Why a force was not written.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub enum WriteError<E> {
     /// The force is NaN or infinite; the output was left unchanged.
     NonFiniteForce,
@@ -54,19 +109,48 @@ pub enum WriteError<E> {
     Pwm(E),
 }
 
-/// A PWM channel driven as a force output.
+impl<E: core::fmt::Debug> core::fmt::Display for WriteError<E> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            WriteError::NonFiniteForce => f.write_str("force is not finite; output unchanged"),
+            WriteError::Pwm(e) => write!(f, "PWM driver error: {e:?}"),
+        }
+    }
+}
+
+impl<E: core::fmt::Debug> core::error::Error for WriteError<E> {}
+
+/// A PWM channel driven as a force output, in the number type `T` (`f32`
+/// in N, or [`Q16`] in units of Fs).
 #[derive(Debug)]
-pub struct PwmForce<P> {
+pub struct PwmForce<P, T = f32> {
     pwm: P,
-    full_scale: f32,
+    full_scale: T,
     mode: DutyMode,
 }
 
-impl<P: SetDutyCycle> PwmForce<P> {
+impl<P: SetDutyCycle> PwmForce<P, f32> {
     /// Wraps `pwm`; `full_scale` F_full [N] is the force at full scale
     /// (finite, > 0). The output is not written until [`write`](Self::write).
     pub fn new(pwm: P, full_scale: f32, mode: DutyMode) -> Result<Self, ConfigError> {
+        Self::with_units(pwm, full_scale, mode, Units::SI)
+    }
+}
+
+impl<P: SetDutyCycle, T: Duty> PwmForce<P, T> {
+    /// Wraps `pwm` for forces in the number type of a model with `units`
+    /// ([`Model::units`](crate::Model::units)); `full_scale` F_full [N]
+    /// (finite, > 0, representable in `T`).
+    pub fn with_units(
+        pwm: P,
+        full_scale: f32,
+        mode: DutyMode,
+        units: Units,
+    ) -> Result<Self, ConfigError> {
         positive(full_scale, Setting::FullScale)?;
+        let full_scale = T::from_f32(full_scale / units.force)
+            .filter(|f| *f > T::ZERO)
+            .ok_or(ConfigError(Setting::FullScale))?;
         Ok(Self {
             pwm,
             full_scale,
@@ -74,29 +158,32 @@ impl<P: SetDutyCycle> PwmForce<P> {
         })
     }
 
-    /// Writes the force `force` [N].
-    pub fn write(&mut self, force: f32) -> Result<Applied, WriteError<P::Error>> {
+    /// Writes the force `force` [N] (model units).
+    pub fn write(&mut self, force: T) -> Result<Applied<T>, WriteError<P::Error>> {
         if !force.is_finite() {
             return Err(WriteError::NonFiniteForce);
         }
-        let max = f32::from(self.pwm.max_duty_cycle());
+        let steps = self.pwm.max_duty_cycle();
+        let one = T::ONE;
+        let half = T::from_steps(1, 2);
         let ratio = force / self.full_scale;
-        let saturated = !(-1.0..=1.0).contains(&ratio);
-        let ratio = ratio.clamp(-1.0, 1.0);
-        let fraction = match self.mode {
-            DutyMode::Centered => 0.5 + 0.5 * ratio,
-            DutyMode::Magnitude => libm::fabsf(ratio),
-        };
-        // In [0, max]: `as` saturates, never panics.
-        let duty = libm::roundf(fraction * max) as u16;
-        let written = if max > 0.0 {
-            f32::from(duty) / max
+        let saturated = ratio > one || ratio < -one;
+        let ratio = if ratio > one {
+            one
+        } else if ratio < -one {
+            -one
         } else {
-            0.0
+            ratio
         };
+        let fraction = match self.mode {
+            DutyMode::Centered => half + half * ratio,
+            DutyMode::Magnitude => ratio.abs(),
+        };
+        let duty = fraction.of_steps(steps);
+        let written = T::from_steps(duty, steps);
         let represented = match self.mode {
-            DutyMode::Centered => (2.0 * written - 1.0) * self.full_scale,
-            DutyMode::Magnitude if force < 0.0 => -written * self.full_scale,
+            DutyMode::Centered => (written + written - one) * self.full_scale,
+            DutyMode::Magnitude if force < T::ZERO => -(written * self.full_scale),
             DutyMode::Magnitude => written * self.full_scale,
         };
         self.pwm.set_duty_cycle(duty).map_err(WriteError::Pwm)?;
@@ -104,18 +191,23 @@ impl<P: SetDutyCycle> PwmForce<P> {
             duty,
             force: represented,
             saturated,
-            reverse: force < 0.0,
+            reverse: force < T::ZERO,
         })
     }
 
-    /// The force at full scale F_full [N].
-    pub fn full_scale(&self) -> f32 {
+    /// The force at full scale F_full [N] (model units).
+    pub fn full_scale(&self) -> T {
         self.full_scale
     }
 
     /// The wrapped PWM channel.
     pub fn inner(&self) -> &P {
         &self.pwm
+    }
+
+    /// The wrapped PWM channel, mutably (to enable it, change its period…).
+    pub fn inner_mut(&mut self) -> &mut P {
+        &mut self.pwm
     }
 
     /// Returns the wrapped PWM channel.

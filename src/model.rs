@@ -42,8 +42,61 @@ impl<T: Scalar> Model<T> {
     /// assert_eq!(Model::<f32>::new(p).unwrap_err(), ParamError::StictionBelowCoulomb);
     /// ```
     pub fn new(params: Params) -> Result<Self, ParamError> {
+        let [fc, fs, sigma, inv_z_max, epsilon] = Self::coefficients(&params)?;
+        // Everything fallible is done: the curves are built straight into
+        // the result.
+        Ok(Self {
+            curves: T::Curves::build(&params),
+            fc,
+            fs,
+            sigma,
+            inv_z_max,
+            epsilon,
+            units: T::units(&params),
+            params,
+        })
+    }
+
+    /// Re-parameterizes the model in place (validated as by
+    /// [`new`](Self::new)); on error the model is left unchanged. For fixed
+    /// point this rebuilds the S table where the model lives: the way to
+    /// build a model on an MCU whose stack cannot hold a copy of it (start
+    /// from [`Model::UNIT_COULOMB`](crate::Model::UNIT_COULOMB)).
+    pub fn set_params(&mut self, params: Params) -> Result<(), ParamError> {
+        let [fc, fs, sigma, inv_z_max, epsilon] = Self::coefficients(&params)?;
+        self.curves.rebuild(&params);
+        (self.fc, self.fs, self.sigma) = (fc, fs, sigma);
+        (self.inv_z_max, self.epsilon) = (inv_z_max, epsilon);
+        self.units = T::units(&params);
+        self.params = params;
+        Ok(())
+    }
+
+    /// A model from its parts (for `const` models).
+    pub(crate) const fn from_parts(
+        params: Params,
+        units: Units,
+        curves: T::Curves,
+        [fc, fs, sigma, inv_z_max, epsilon]: [T; 5],
+    ) -> Self {
+        Self {
+            params,
+            units,
+            curves,
+            fc,
+            fs,
+            sigma,
+            inv_z_max,
+            epsilon,
+        }
+    }
+
+    /// Validates `params` and converts Fc, Fs, σ, 1/z_max and ε to model
+    /// units; every check of [`new`](Self::new) happens here or in
+    /// `Curves::check`.
+    fn coefficients(params: &Params) -> Result<[T; 5], ParamError> {
         params.validate()?;
-        let units = T::units(&params);
+        let units = T::units(params);
         // A positive parameter must stay positive once scaled.
         let convert = |param: Param, x: f32, positive: bool| {
             T::from_f32(x)
@@ -54,20 +107,19 @@ impl<T: Scalar> Model<T> {
         if !inv_z_max.is_finite() {
             return Err(ParamError::OutOfRange(Param::ZMax));
         }
-        Ok(Self {
-            curves: T::Curves::new(&params)?,
-            fc: convert(Param::Fc, params.fc / units.force, true)?,
-            fs: convert(Param::Fs, params.fs / units.force, true)?,
-            sigma: convert(
+        let coefficients = [
+            convert(Param::Fc, params.fc / units.force, true)?,
+            convert(Param::Fs, params.fs / units.force, true)?,
+            convert(
                 Param::Sigma,
                 params.sigma * units.velocity / units.force,
                 false,
             )?,
-            inv_z_max: convert(Param::ZMax, inv_z_max, true)?,
-            epsilon: convert(Param::Epsilon, params.epsilon / units.length, false)?,
-            units,
-            params,
-        })
+            convert(Param::ZMax, inv_z_max, true)?,
+            convert(Param::Epsilon, params.epsilon / units.length, false)?,
+        ];
+        T::Curves::check(params)?;
+        Ok(coefficients)
     }
 
     /// The units of the model's numbers (SI for `f32`).

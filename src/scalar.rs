@@ -36,6 +36,8 @@ pub trait Scalar:
     const ZERO: Self;
     /// 1.
     const ONE: Self;
+    /// The largest finite value.
+    const MAX: Self;
     /// Relative tolerance of iterative solvers (a few units in the last place).
     const TOLERANCE: Self;
     /// The curves S(v) and g(w) evaluated in this number type.
@@ -103,9 +105,18 @@ impl Units {
 
 /// The non-polynomial functions of the model for one parameter set.
 pub trait Curves<T>: Sized + Clone {
-    /// Builds the curves of a validated parameter set; `Err` names a parameter
-    /// whose value cannot be represented in `T`.
-    fn new(params: &Params) -> Result<Self, ParamError>;
+    /// Checks that the curves of a validated parameter set can be
+    /// represented in `T`; `Err` names the parameter that cannot.
+    fn check(params: &Params) -> Result<(), ParamError>;
+    /// Builds the curves of a parameter set that passed
+    /// [`check`](Self::check). Infallible, so that the result is written
+    /// where the caller keeps it (a table is not copied through the stack).
+    fn build(params: &Params) -> Self;
+    /// Rebuilds the curves in place for a parameter set that passed
+    /// [`check`](Self::check) (no copy of a table through the stack).
+    fn rebuild(&mut self, params: &Params) {
+        *self = Self::build(params);
+    }
     /// Stribeck magnitude S(v) = Fc + (Fs − Fc)·exp(−(|v|/V)^δ) at the
     /// velocity `v` (MODEL.md §2), in model units (N and m/s for `f32`).
     fn stribeck(&self, v: T) -> T;
@@ -117,6 +128,7 @@ pub trait Curves<T>: Sized + Clone {
 impl Scalar for f32 {
     const ZERO: Self = 0.0;
     const ONE: Self = 1.0;
+    const MAX: Self = f32::MAX;
     const TOLERANCE: Self = 4.0 * f32::EPSILON;
     type Curves = crate::curves::CurvesF32;
 

@@ -578,3 +578,79 @@ fn detector_measures_the_break_away_of_the_reference_dynamics() {
         Err(SignalError::Command)
     );
 }
+
+/// The same feedforward in Q16.16 (forces in Fs, velocities in V, 10 nm
+/// counts) against the f64 reference presliding model: one algorithm in
+/// both number types, within the fixed-point bound 1e-3·Fs.
+#[test]
+fn fixed_feedforward_follows_the_reference_presliding_model() {
+    use breakaway::{Scalar, Q16};
+    let p = Params {
+        sigma: 50.0,
+        ..FIG5
+    };
+    let model = Model::<Q16>::new(p).unwrap();
+    let scale = model.position_scale::<i32>(1e-8).unwrap();
+    let judge_model = reference_model(&p, 1.0, 1.0);
+    let mut judge = reference::Presliding::new(0.0);
+    let config = FeedforwardConfig {
+        gain: 1.0,
+        deadband: 1e-6,
+        limit: 100.0,
+    };
+    let mut ff = Feedforward::<i32, Q16>::with_units(config, model.units(), 0, scale).unwrap();
+    let mut worst = 0.0f64;
+    for n in 0..4000 {
+        let t = n as f64 * 1e-3;
+        let w = 2.0 * std::f64::consts::PI * 0.5;
+        let x = 3e-5 * (w * t).sin() + 4e-6 * (7.3 * w * t).sin();
+        let v = 3e-5 * w * (w * t).cos() + 4e-6 * 7.3 * w * (7.3 * w * t).cos();
+        let count = (x / 1e-8).round() as i32;
+        let v_q = model.velocity(v as f32).unwrap();
+        let u = ff.update(&model, count, v_q).unwrap().to_f32() as f64 * p.fs as f64;
+        // The reference sees what the fixed-point model received.
+        let v_seen = v_q.to_f32() as f64 * p.v_stribeck as f64;
+        let v_seen = if v_seen.abs() <= 1e-6 { 0.0 } else { v_seen };
+        let want = judge.update(&judge_model, count as f64 * 1e-8, v_seen);
+        worst = worst.max((u - want).abs() / p.fs as f64);
+    }
+    assert!(worst < 1e-3, "Q16 feedforward vs reference: {worst:.2e}·Fs");
+}
+
+/// The Q16.16 observer on the reference plant, fed the same samples as the
+/// `f32` one: the same estimate of the plant's friction within 1e-3·Fs.
+#[test]
+fn fixed_observer_matches_the_f32_observer_on_the_reference_plant() {
+    use breakaway::{Scalar, Q16};
+    const T: f32 = 1e-3;
+    let model = Model::<Q16>::new(FIG5).unwrap();
+    let config = ObserverConfig {
+        mass: 1.0,
+        bandwidth: 100.0,
+        period: T,
+    };
+    let mut float = DisturbanceObserver::new(config).unwrap();
+    let mut fixed = DisturbanceObserver::<Q16>::with_units(config, model.units()).unwrap();
+    let mut plant = Plant::new(reference_model(&FIG5, 1.0, 1.0));
+    let (v_ref, mut integral, mut u) = (0.02f64, 0.0f64, 0.0f64);
+    let mut worst = 0.0f64;
+    for _ in 0..1000 {
+        let r = float.update(u as f32, plant.v as f32, 0.0).unwrap();
+        let q = fixed
+            .update(
+                Q16::from_f32(u as f32 / FIG5.fs).unwrap(),
+                model.velocity(plant.v as f32).unwrap(),
+                Q16::ZERO,
+            )
+            .unwrap();
+        worst = worst.max((q.to_f32() * FIG5.fs - r).abs() as f64 / FIG5.fs as f64);
+        let e = v_ref - plant.v;
+        integral += e * T as f64;
+        u = 300.0 * e + 3000.0 * integral;
+        plant.step(u, T as f64);
+    }
+    let want = reference::stribeck(&plant.model, v_ref);
+    let got = fixed.estimate().to_f32() as f64 * FIG5.fs as f64;
+    assert!((got - want).abs() < 5e-3 * want, "{got} vs {want}");
+    assert!(worst < 1e-3, "Q16 vs f32 observer: {worst:.2e}·Fs");
+}

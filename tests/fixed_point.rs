@@ -177,6 +177,44 @@ fn construction_rejects_what_does_not_fit_naming_the_parameter() {
     assert!(m.position_scale::<i32>(1e-8).is_some());
 }
 
+/// In-place construction builds the same model as `new`, from the `const`
+/// starting point, and leaves the model unchanged when it rejects a set.
+#[test]
+fn set_params_in_place_equals_new_and_rejects_without_change() {
+    let unit = Params {
+        fc: 1.0,
+        fs: 1.0,
+        v_stribeck: 1.0,
+        delta: 1.0,
+        sigma: 0.0,
+        z_max: 1.0,
+        epsilon: 0.0,
+    };
+    assert_eq!(
+        format!("{:?}", Model::<Fx>::UNIT_COULOMB),
+        format!("{:?}", Model::<Fx>::new(unit).unwrap())
+    );
+    let mut runner = runner(50);
+    runner
+        .run(&params(0.5..2.0), |p| {
+            let mut model = Model::<Fx>::UNIT_COULOMB;
+            model.set_params(p).unwrap();
+            prop_assert_eq!(
+                format!("{model:?}"),
+                format!("{:?}", Model::<Fx>::new(p).unwrap())
+            );
+            let before = format!("{model:?}");
+            let bad = Params {
+                fs: p.fc * 0.5,
+                ..p
+            };
+            prop_assert_eq!(model.set_params(bad), Err(ParamError::StictionBelowCoulomb));
+            prop_assert_eq!(format!("{model:?}"), before);
+            Ok(())
+        })
+        .unwrap();
+}
+
 #[test]
 fn extreme_samples_saturate_and_never_panic() {
     // σ·V/Fs = 2: the viscous term saturates above 16384·V.

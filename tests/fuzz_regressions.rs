@@ -26,7 +26,7 @@ fn feedforward_with_extreme_settings_stays_finite() {
             deadband: 0.0,
             limit,
         };
-        let mut ff = Feedforward::<f32, 2>::new(config, 0.0, 1.0).unwrap();
+        let mut ff = Feedforward::<f32, f32, 2>::new(config, 0.0, 1.0).unwrap();
         for (x, v) in [
             (6.162_976e-33, -1.701_411_8e38),
             (3.251_395_8e35, -48_884_200.0),

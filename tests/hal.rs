@@ -71,3 +71,65 @@ fn magnitude_scale_reports_the_direction() {
         ConfigError(Setting::FullScale)
     );
 }
+
+/// The Q16.16 adapter (force in units of Fs) writes the duty the `f32` one
+/// writes for the same force, to the step, and reports the same force.
+#[test]
+fn fixed_point_duty_equals_the_f32_duty() {
+    use breakaway::{Scalar, Units, Q16};
+    let units = Units {
+        force: 1.5,
+        velocity: 1e-3,
+        length: 1e-5 / 256.0,
+    };
+    for mode in [DutyMode::Centered, DutyMode::Magnitude] {
+        let mut float = PwmForce::new(
+            Recorder {
+                max: 4095,
+                duty: None,
+            },
+            2.0,
+            mode,
+        )
+        .unwrap();
+        let mut fixed = PwmForce::<_, Q16>::with_units(
+            Recorder {
+                max: 4095,
+                duty: None,
+            },
+            2.0,
+            mode,
+            units,
+        )
+        .unwrap();
+        for i in -300..=300 {
+            let newtons = i as f32 * 0.01;
+            let q = Q16::from_f32(newtons / units.force).unwrap();
+            let a = float.write(q.to_f32() * units.force).unwrap();
+            let b = fixed.write(q).unwrap();
+            assert!(
+                a.duty.abs_diff(b.duty) <= 1,
+                "{mode:?} {newtons} N: {} vs {}",
+                a.duty,
+                b.duty
+            );
+            assert_eq!((a.saturated, a.reverse), (b.saturated, b.reverse));
+            let step = 2.0 * 2.0 / 4095.0;
+            assert!(
+                // One duty step, plus the Q16 resolution of duty/max.
+                (b.force.to_f32() * units.force - a.force).abs() <= step + 1e-4,
+                "{mode:?} {newtons} N"
+            );
+        }
+    }
+    assert_eq!(
+        PwmForce::<_, Q16>::with_units(
+            Recorder { max: 1, duty: None },
+            1e6,
+            DutyMode::Centered,
+            units
+        )
+        .unwrap_err(),
+        ConfigError(Setting::FullScale)
+    );
+}

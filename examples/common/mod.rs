@@ -26,9 +26,27 @@ pub const FIG5: breakaway::Params = breakaway::Params {
 #[allow(dead_code)]
 pub fn reversal_trajectory(n: i32) -> i32 {
     let t = n as f32 * 1e-3;
-    let tau = 2.0 * core::f32::consts::PI;
-    let x = 1600.0 * libm::sinf(tau * 0.8 * t) + 300.0 * libm::sinf(tau * 5.84 * t);
+    let x = 1600.0 * sin_turns(0.8 * t) + 300.0 * sin_turns(5.84 * t);
     libm::roundf(x) as i32
+}
+
+/// sin(2π·p) in `f32` arithmetic only (`libm::sinf` reduces its argument in
+/// `f64`, which would link soft-float `f64` code into an M0 firmware that
+/// is meant to have none): p folded into [−¼, ¼] turn, then the Taylor
+/// series to x¹¹ (error below 6e-8).
+#[allow(dead_code)]
+pub fn sin_turns(p: f32) -> f32 {
+    let mut p = p - libm::roundf(p);
+    if p > 0.25 {
+        p = 0.5 - p;
+    } else if p < -0.25 {
+        p = -0.5 - p;
+    }
+    let x = 2.0 * core::f32::consts::PI * p;
+    let x2 = x * x;
+    let series = 1.0
+        - x2 / 6.0 * (1.0 - x2 / 20.0 * (1.0 - x2 / 42.0 * (1.0 - x2 / 72.0 * (1.0 - x2 / 110.0))));
+    x * series
 }
 
 /// Ends the run: QEMU exits with status 0.

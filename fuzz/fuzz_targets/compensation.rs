@@ -35,7 +35,7 @@ fuzz_target!(|data: &[u8]| {
         break_away_speed: w.f32().unwrap_or(1e-3),
         min_rate: w.f32().unwrap_or(0.01),
     };
-    let mut ff = Feedforward::<f32, 2>::new(feedforward, 0.0, 1.0).ok();
+    let mut ff = Feedforward::<f32, f32, 2>::new(feedforward, 0.0, 1.0).ok();
     let mut obs = DisturbanceObserver::new(observer).ok();
     let mut ad = LevelAdaptation::new(adaptation).ok();
     let mut det = BreakAwayDetector::<4>::new(detector, &model, Variant::Consistent, 0.95).ok();

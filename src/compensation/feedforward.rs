@@ -15,12 +15,17 @@
 //! instead steps by 2·Fc at the instant v_ref changes sign while the axis
 //! is still stuck in presliding, and kicks it (the quadrant glitch).
 
+// Arithmetic here is on the generic number type `T`, whose operators are
+// total by the `Scalar` contract (IEEE `f32`; saturating `Q16`): no panic, no
+// wrap.
+#![allow(clippy::arithmetic_side_effects)]
+
 use crate::model::Model;
 use crate::position::Position;
 use crate::presliding::{Presliding, SampleError};
-use crate::scalar::Scalar;
+use crate::scalar::{Scalar, Units};
 
-use super::{clamp_symmetric, non_negative, positive, ConfigError, Setting};
+use super::{clamp_symmetric, non_negative, positive, setting_in, ConfigError, Setting};
 
 /// Settings of a [`Feedforward`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -52,17 +57,23 @@ impl Default for FeedforwardConfig {
 /// Presliding friction feedforward for one axis.
 ///
 /// `P` is the position type of [`Presliding`] (`f32` metres, or `i32`/`i64`
-/// counts), `N` its turning-point memory (0: the reference rule of
-/// MODEL.md §3; N > 0 closes minor loops).
+/// counts), `T` the number type (`f32`, or [`Q16`](crate::Q16) for an MCU
+/// without an FPU: forces in units of Fs, velocities in units of V), `N`
+/// the turning-point memory (0: the reference rule of MODEL.md §3; N > 0
+/// closes minor loops).
 #[derive(Clone, Debug, PartialEq)]
-pub struct Feedforward<P: Position<f32, Scale = f32> = f32, const N: usize = 0> {
+pub struct Feedforward<P: Position<T> = f32, T: Scalar = f32, const N: usize = 0> {
     config: FeedforwardConfig,
-    state: Presliding<P, f32, N>,
-    scale: f32,
-    force: f32,
+    /// Gain, deadband and limit in model units.
+    gain: T,
+    deadband: T,
+    limit: T,
+    state: Presliding<P, T, N>,
+    scale: T,
+    force: T,
 }
 
-impl<P: Position<f32, Scale = f32>, const N: usize> Feedforward<P, N> {
+impl<P: Position<f32, Scale = f32>, const N: usize> Feedforward<P, f32, N> {
     /// A feedforward idle at the reference position `start`, positions in
     /// units of `metres_per_unit` metres.
     ///
@@ -81,25 +92,59 @@ impl<P: Position<f32, Scale = f32>, const N: usize> Feedforward<P, N> {
         start: P,
         metres_per_unit: f32,
     ) -> Result<Self, ConfigError> {
+        Self::with_units(config, Units::SI, start, metres_per_unit)
+    }
+}
+
+impl<P: Position<T>, T: Scalar, const N: usize> Feedforward<P, T, N> {
+    /// A feedforward in the number type `T` of a model with `units`
+    /// ([`Model::units`]), idle at `start`; `scale` from
+    /// [`Model::position_scale`]. The settings stay in SI units in
+    /// [`config`](Self::config) and are converted here once.
+    ///
+    /// ```
+    /// use breakaway::compensation::{Feedforward, FeedforwardConfig};
+    /// use breakaway::{Model, Params, Scalar, Q16};
+    /// let model = Model::<Q16>::new(Params { fc: 1.0, fs: 1.5, v_stribeck: 1e-3,
+    ///     delta: 1.0, sigma: 0.0, z_max: 1e-5, epsilon: 0.0 })?;
+    /// let scale = model.position_scale::<i32>(1e-8).unwrap(); // 10 nm counts
+    /// let mut ff = Feedforward::<i32, Q16>::with_units(
+    ///     FeedforwardConfig::default(), model.units(), 0, scale).unwrap();
+    /// let v = model.velocity(1e-4).unwrap();
+    /// let u = ff.update(&model, 200, v).unwrap(); // 2 µm = 0.2 z_max, in units of Fs
+    /// let newtons = u.to_f32() * model.units().force;
+    /// assert!(newtons > 0.0 && newtons < 1.0);
+    /// # Ok::<(), breakaway::ParamError>(())
+    /// ```
+    pub fn with_units(
+        config: FeedforwardConfig,
+        units: Units,
+        start: P,
+        scale: P::Scale,
+    ) -> Result<Self, ConfigError> {
         non_negative(config.gain, Setting::Gain)?;
         non_negative(config.deadband, Setting::Deadband)?;
         positive(config.limit, Setting::Limit)?;
-        let state = Presliding::new(start, metres_per_unit)
-            .map_err(|_| ConfigError(Setting::MetresPerUnit))?;
+        let state =
+            Presliding::new(start, scale).map_err(|_| ConfigError(Setting::MetresPerUnit))?;
         Ok(Self {
+            gain: setting_in(config.gain, 1.0, Setting::Gain)?,
+            deadband: setting_in(config.deadband, units.velocity, Setting::Deadband)?,
+            limit: setting_in(config.limit, units.force, Setting::Limit)?,
             config,
             state,
-            scale: 1.0,
-            force: 0.0,
+            scale: T::ONE,
+            force: T::ZERO,
         })
     }
 
     /// Feeds the reference sample (`x_ref` in position units, `v_ref`
-    /// [m/s]) and returns the compensation force u_ff [N]. A non-finite
-    /// sample is rejected and leaves the state unchanged.
-    pub fn update(&mut self, model: &Model<f32>, x_ref: P, v_ref: f32) -> Result<f32, SampleError> {
-        let v = if libm::fabsf(v_ref) <= self.config.deadband {
-            0.0
+    /// [m/s]; model units for fixed point) and returns the compensation
+    /// force u_ff [N] (model units). A non-finite sample is rejected and
+    /// leaves the state unchanged.
+    pub fn update(&mut self, model: &Model<T>, x_ref: P, v_ref: T) -> Result<T, SampleError> {
+        let v = if v_ref.abs() <= self.deadband {
+            T::ZERO
         } else {
             v_ref
         };
@@ -108,35 +153,37 @@ impl<P: Position<f32, Scale = f32>, const N: usize> Feedforward<P, N> {
         // f − dry = σ·v (saturated): only the dry part scales with θ. Each
         // product is saturated before the sum, so extreme settings give
         // ±∞ at worst (clamped below), never NaN (no 0·∞, no ∞ − ∞).
-        let level = (self.config.gain * (self.scale * dry).saturate()).saturate();
-        let viscous = (self.config.gain * (f - dry).saturate()).saturate();
+        let level = (self.gain * (self.scale * dry).saturate()).saturate();
+        let viscous = (self.gain * (f - dry).saturate()).saturate();
         let u = level + viscous;
-        self.force = clamp_symmetric(u, self.config.limit);
+        self.force = clamp_symmetric(u, self.limit);
         Ok(self.force)
     }
 
     /// Sets the level scale θ on Fc and Fs (from
     /// [`LevelAdaptation`](super::LevelAdaptation)); a non-finite or
     /// non-positive value is ignored. Takes effect from the next sample.
-    pub fn set_level_scale(&mut self, scale: f32) {
-        if scale.is_finite() && scale > 0.0 {
+    pub fn set_level_scale(&mut self, scale: T) {
+        if scale.is_finite() && scale > T::ZERO {
             self.scale = scale;
         }
     }
 
     /// The level scale θ [-] in use.
-    pub fn level_scale(&self) -> f32 {
+    pub fn level_scale(&self) -> T {
         self.scale
     }
 
-    /// The compensation force u_ff [N] of the last accepted sample.
-    pub fn force(&self) -> f32 {
+    /// The compensation force u_ff [N] (model units) of the last accepted
+    /// sample.
+    pub fn force(&self) -> T {
         self.force
     }
 
-    /// The model's dry friction H [N] at unit level scale after the last
-    /// accepted sample: the regressor of [`LevelAdaptation`](super::LevelAdaptation).
-    pub fn dry(&self) -> f32 {
+    /// The model's dry friction H [N] (model units) at unit level scale
+    /// after the last accepted sample: the regressor of
+    /// [`LevelAdaptation`](super::LevelAdaptation).
+    pub fn dry(&self) -> T {
         self.state.dry()
     }
 
@@ -147,7 +194,7 @@ impl<P: Position<f32, Scale = f32>, const N: usize> Feedforward<P, N> {
     }
 
     /// The presliding state driven by the reference.
-    pub fn presliding(&self) -> &Presliding<P, f32, N> {
+    pub fn presliding(&self) -> &Presliding<P, T, N> {
         &self.state
     }
 
@@ -159,6 +206,6 @@ impl<P: Position<f32, Scale = f32>, const N: usize> Feedforward<P, N> {
     /// Returns to idle at `start` (the level scale is kept).
     pub fn reset(&mut self, start: P) {
         self.state.reset(start);
-        self.force = 0.0;
+        self.force = T::ZERO;
     }
 }

@@ -24,6 +24,11 @@
 //! once at construction ([`ConfigError`] names the setting) and a non-finite
 //! sample is rejected without changing any state.
 
+// Arithmetic here is on the generic number type `T`, whose operators are
+// total by the `Scalar` contract (IEEE `f32`; saturating `Q16`): no panic, no
+// wrap.
+#![allow(clippy::arithmetic_side_effects)]
+
 mod adaptation;
 mod detection;
 mod feedforward;
@@ -37,6 +42,8 @@ pub use feedforward::{Feedforward, FeedforwardConfig};
 pub use observer::{DisturbanceObserver, ObserverConfig};
 
 use core::fmt;
+
+use crate::scalar::Scalar;
 
 /// Names a setting of a compensation block.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -156,9 +163,21 @@ fn non_negative(x: f32, setting: Setting) -> Result<f32, ConfigError> {
     }
 }
 
+/// A setting `x` (≥ 0, in SI units of `unit`) in the number type; beyond
+/// the type's range it is taken as the largest value (a limit "none" stays
+/// none), a positive value that rounds to 0 is out of range.
+fn setting_in<T: Scalar>(x: f32, unit: f32, setting: Setting) -> Result<T, ConfigError> {
+    let scaled = x / unit;
+    match T::from_f32(scaled) {
+        Some(t) if t > T::ZERO || scaled == 0.0 => Ok(t),
+        None if scaled > 0.0 => Ok(T::MAX),
+        _ => Err(ConfigError(setting)),
+    }
+}
+
 /// Clamps `x` to [−limit, limit]; finite for finite `limit`.
 #[inline(always)]
-fn clamp_symmetric(x: f32, limit: f32) -> f32 {
+fn clamp_symmetric<T: Scalar>(x: T, limit: T) -> T {
     if x > limit {
         limit
     } else if x < -limit {

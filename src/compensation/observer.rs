@@ -21,7 +21,13 @@
 //! (m − m_n)·a to it; the bandwidth is bounded by the velocity noise, which
 //! the differentiation amplifies by m_n/T before the filter.
 
+// Arithmetic here is on the generic number type `T`, whose operators are
+// total by the `Scalar` contract (IEEE `f32`; saturating `Q16`): no panic, no
+// wrap.
+#![allow(clippy::arithmetic_side_effects)]
+
 use super::{positive, ConfigError, Setting, SignalError};
+use crate::scalar::{Scalar, Units};
 
 /// Settings of a [`DisturbanceObserver`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -35,20 +41,42 @@ pub struct ObserverConfig {
     pub period: f32,
 }
 
-/// A first-order disturbance observer on one axis.
+/// A first-order disturbance observer on one axis, in the number type `T`
+/// (`f32`, or [`Q16`](crate::Q16) with forces in units of Fs and velocities
+/// in units of V).
 #[derive(Clone, Debug, PartialEq)]
-pub struct DisturbanceObserver {
-    /// m_n/T [kg/s].
-    mass_rate: f32,
-    alpha: f32,
-    last_velocity: Option<f32>,
-    estimate: f32,
+pub struct DisturbanceObserver<T: Scalar = f32> {
+    /// m_n/T [kg/s] (model force units per model velocity unit).
+    mass_rate: T,
+    alpha: T,
+    last_velocity: Option<T>,
+    estimate: T,
 }
 
-impl DisturbanceObserver {
+impl DisturbanceObserver<f32> {
     /// An observer with zero estimate; the first sample only stores the
     /// velocity.
+    ///
+    /// ```
+    /// use breakaway::compensation::{DisturbanceObserver, ObserverConfig};
+    /// let config = ObserverConfig { mass: 2.0, bandwidth: 300.0, period: 1e-4 };
+    /// let mut dob = DisturbanceObserver::new(config).unwrap();
+    /// // A constant 1.2 N of friction against a 1.2 N command: no acceleration.
+    /// for _ in 0..2000 {
+    ///     dob.update(1.2, 0.01, 0.0).unwrap();
+    /// }
+    /// assert!((dob.estimate() - 1.2).abs() < 1e-3);
+    /// ```
     pub fn new(config: ObserverConfig) -> Result<Self, ConfigError> {
+        Self::with_units(config, Units::SI)
+    }
+}
+
+impl<T: Scalar> DisturbanceObserver<T> {
+    /// An observer in the number type of a model with `units`
+    /// ([`Model::units`](crate::Model::units)); the settings stay in SI
+    /// units and are converted here once.
+    pub fn with_units(config: ObserverConfig, units: Units) -> Result<Self, ConfigError> {
         let mass = positive(config.mass, Setting::Mass)?;
         let bandwidth = positive(config.bandwidth, Setting::Bandwidth)?;
         let period = positive(config.period, Setting::Period)?;
@@ -57,25 +85,27 @@ impl DisturbanceObserver {
         if !(alpha > 0.0 && alpha <= 1.0) {
             return Err(ConfigError(Setting::Bandwidth));
         }
+        let mass_rate = T::from_f32(mass_rate * units.velocity / units.force)
+            .filter(|m| *m > T::ZERO)
+            .ok_or(ConfigError(Setting::Mass))?;
+        let alpha = T::from_f32(alpha)
+            .filter(|a| *a > T::ZERO)
+            .ok_or(ConfigError(Setting::Bandwidth))?;
         Ok(Self {
             mass_rate,
             alpha,
             last_velocity: None,
-            estimate: 0.0,
+            estimate: T::ZERO,
         })
     }
 
     /// Feeds one sample: `command` u [N] applied during the period that ends
     /// now, the measured `velocity` [m/s] now, and the `explained` force e
-    /// [N] (the part of the friction already compensated in that period).
-    /// Returns the estimate r [N] of the force not explained. A non-finite
-    /// input is rejected and leaves the state unchanged.
-    pub fn update(
-        &mut self,
-        command: f32,
-        velocity: f32,
-        explained: f32,
-    ) -> Result<f32, SignalError> {
+    /// [N] (the part of the friction already compensated in that period);
+    /// model units for fixed point. Returns the estimate r [N] of the force
+    /// not explained. A non-finite input is rejected and leaves the state
+    /// unchanged.
+    pub fn update(&mut self, command: T, velocity: T, explained: T) -> Result<T, SignalError> {
         if !command.is_finite() {
             return Err(SignalError::Command);
         }
@@ -97,14 +127,14 @@ impl DisturbanceObserver {
         Ok(self.estimate)
     }
 
-    /// The estimate r [N] after the last accepted sample.
-    pub fn estimate(&self) -> f32 {
+    /// The estimate r [N] (model units) after the last accepted sample.
+    pub fn estimate(&self) -> T {
         self.estimate
     }
 
     /// Clears the estimate and the stored velocity.
     pub fn reset(&mut self) {
-        self.estimate = 0.0;
+        self.estimate = T::ZERO;
         self.last_velocity = None;
     }
 }

@@ -192,9 +192,52 @@ pub fn all(only: &[String]) -> Result<Vec<String>, String> {
 const FIXED_FRICTION_BOUND: f64 = 1e-3;
 const FIXED_BREAKAWAY_BOUND: f64 = 1e-3;
 
+/// Symbols of the soft-float `f64` routines (compiler-builtins' names and
+/// the ARM EABI aliases): a firmware that uses only Q16 must link none.
+fn soft_f64_symbols(elf: &std::path::Path) -> Result<Vec<String>, String> {
+    use object::{Object, ObjectSymbol};
+    let data = std::fs::read(elf).map_err(|e| format!("{}: {e}", elf.display()))?;
+    let file = object::File::parse(&*data).map_err(|e| format!("{}: {e}", elf.display()))?;
+    let f64_routine = |name: &str| {
+        [
+            "df3",
+            "df2",
+            "__aeabi_d",
+            "__aeabi_f2d",
+            "__aeabi_l2d",
+            "__aeabi_i2d",
+            "__aeabi_ui2d",
+        ]
+        .iter()
+        .any(|pattern| name.contains(pattern))
+    };
+    let names: Vec<String> = file
+        .symbols()
+        .filter_map(|s| s.name().ok().map(str::to_string))
+        .collect();
+    // A stripped file would pass while checking nothing.
+    if !names.iter().any(|name| name == "Reset") {
+        return Err(format!(
+            "{}: no symbol table (cortex-m-rt's `Reset` not found)",
+            elf.display()
+        ));
+    }
+    Ok(names.into_iter().filter(|name| f64_routine(name)).collect())
+}
+
 /// `fixed_point`: the Q16.16 model's friction and break-away against the f64
-/// reference, at the quantized inputs the MCU used.
+/// reference, at the quantized inputs the MCU used; on the Cortex-M0 the
+/// firmware (Q16 only) must link no soft-float `f64` routine.
 pub fn fixed_point(target: Target) -> Result<String, String> {
+    let elf = qemu::build("fixed_point", target)?;
+    let f64_symbols = soft_f64_symbols(&elf)?;
+    if target.triple.starts_with("thumbv6m") && !f64_symbols.is_empty() {
+        return Err(format!(
+            "fixed_point on {}: soft-float f64 routines linked: {}",
+            target.core,
+            f64_symbols.join(", ")
+        ));
+    }
     let output = qemu::run_example("fixed_point", target)?;
     let model = fig5()?;
     let raw = |fields: &[&str], i: usize, line: &str| field(fields, i, line).map(|x| x / 65536.0);
@@ -274,10 +317,11 @@ pub fn fixed_point(target: Target) -> Result<String, String> {
         }
     }
     Ok(format!(
-        "fixed_point on {}: {} samples at 10 to 10^7 counts per z_max, worst |F − F_ref| {worst_f:.2e}·Fs \
+        "fixed_point on {}: {} f64 soft-float symbols; {} samples at 10 to 10^7 counts per z_max, worst |F − F_ref| {worst_f:.2e}·Fs \
          (bound {FIXED_FRICTION_BOUND:.0e}); {} break-away rows, worst v_b/F_ba/t_ba rel. error {worst_ba:.2e} \
          (bound {FIXED_BREAKAWAY_BOUND:.0e}, or one Q16 unit)",
         target.core,
+        f64_symbols.len(),
         samples.len(),
         rows.len()
     ))

@@ -256,6 +256,16 @@ fn test() -> Result<(), String> {
         .args(["doc", "-p", "breakaway", "--no-deps"])
         .env("RUSTDOCFLAGS", "-D warnings"))?;
     run(cargo().args(["test", "--workspace"]))?;
+    // The PWM adapter's tests need its feature.
+    run(cargo().args([
+        "test",
+        "-p",
+        "breakaway",
+        "--features",
+        "hal",
+        "--test",
+        "hal",
+    ]))?;
     // The discrepancy workflow on a small fixed subset of the independent
     // generator's records (the full sweep: `cargo xtask sweep`).
     sweep::smoke()?;

@@ -32,7 +32,7 @@ use std::time::Duration;
 use crate::qemu::{self, Target};
 
 /// Rows of the profile: the wrapper symbol and the reported name.
-const ROWS: [(&str, &str); 7] = [
+const ROWS: [(&str, &str); 9] = [
     ("bench_update_f32", "update_f32"),
     ("bench_stribeck_f32", "stribeck_f32"),
     ("bench_shape_f32", "shape_f32"),
@@ -40,7 +40,12 @@ const ROWS: [(&str, &str); 7] = [
     ("bench_naive_libm_update", "naive_libm_update"),
     ("bench_update_fixed", "update_fixed"),
     ("bench_breakaway_fixed", "breakaway_fixed"),
+    ("bench_new_model_f32", "new_model_f32"),
+    ("bench_new_model_fixed", "new_model_fixed"),
 ];
+
+/// Where the counted part of the trace ends: the harness's stack pass.
+const END_SYMBOL: &str = "stack_pass";
 
 /// Options of `cargo xtask profile`.
 #[derive(Clone, Debug)]
@@ -112,6 +117,8 @@ pub struct Row {
     pub max_instructions: u64,
     /// Mean estimated cycles per call.
     pub est_cycles: f64,
+    /// Deepest stack below the call [bytes], from the painted stack.
+    pub max_stack_bytes: u64,
 }
 
 /// Runs the profile and prints it.
@@ -130,6 +137,7 @@ pub fn run(options: &Options) -> Result<(), String> {
                     "instructions": r.instructions,
                     "max_instructions": r.max_instructions,
                     "est_cycles": r.est_cycles,
+                    "max_stack_bytes": r.max_stack_bytes,
                 })
             })
             .collect();
@@ -149,7 +157,7 @@ pub fn check_targets() -> Result<(), String> {
     for target in qemu::TARGETS {
         let measured = measure(target)?;
         for row in &measured {
-            if row.calls == 0 || row.instructions < 5.0 {
+            if row.calls == 0 || row.instructions < 5.0 || row.max_stack_bytes < 4 {
                 return Err(format!("profile: implausible row {row:?}"));
             }
         }
@@ -169,19 +177,27 @@ fn print_table(rows: &[Row], options: &Options) {
         period
     );
     println!(
-        "{:<22} {:<20} {:>7} {:>10} {:>9} {:>11} {:>8}",
-        "target", "function", "calls", "instr/call", "max instr", "est. cycles", "budget"
+        "{:<22} {:<20} {:>7} {:>10} {:>9} {:>11} {:>8} {:>7}",
+        "target",
+        "function",
+        "calls",
+        "instr/call",
+        "max instr",
+        "est. cycles",
+        "budget",
+        "stack B"
     );
     for r in rows {
         println!(
-            "{:<22} {:<20} {:>7} {:>10.1} {:>9} {:>11.1} {:>7.2}%",
+            "{:<22} {:<20} {:>7} {:>10.1} {:>9} {:>11.1} {:>7.2}% {:>7}",
             r.target,
             r.name,
             r.calls,
             r.instructions,
             r.max_instructions,
             r.est_cycles,
-            100.0 * r.est_cycles / period
+            100.0 * r.est_cycles / period,
+            r.max_stack_bytes
         );
     }
     println!();
@@ -218,10 +234,26 @@ pub fn measure(target: Target) -> Result<Vec<Row>, String> {
         "xtask: profiling cycle_budget on {} ({})",
         target.core, target.machine
     );
-    qemu::execute(&elf, target, &args, Duration::from_secs(600))?;
+    let output = qemu::execute(&elf, target, &args, Duration::from_secs(900))?;
     let rows = parse_trace(&log, target);
     let _ = std::fs::remove_file(&log);
-    rows
+    let mut rows = rows?;
+    for row in &mut rows {
+        row.max_stack_bytes = output
+            .lines()
+            .filter_map(|line| line.strip_prefix("stack "))
+            .find_map(|rest| {
+                let (name, bytes) = rest.split_once(' ')?;
+                (name == row.name).then(|| bytes.trim().parse().ok())?
+            })
+            .ok_or_else(|| {
+                format!(
+                    "profile: no stack figure for {} on {}",
+                    row.name, target.triple
+                )
+            })?;
+    }
+    Ok(rows)
 }
 
 /// One decoded instruction.
@@ -262,6 +294,9 @@ fn parse_trace(path: &std::path::Path, target: Target) -> Result<Vec<Row>, Strin
         let Some((pc, symbol)) = parse_exec(&line) else {
             continue;
         };
+        if symbol == END_SYMBOL {
+            break;
+        }
         // Charge the previous instruction now that we know where it went.
         if let (Some(call), Some((prev_pc, _))) = (open.as_mut(), prev.as_ref()) {
             if let Some(insn) = insns.get(prev_pc) {
@@ -316,6 +351,7 @@ fn parse_trace(path: &std::path::Path, target: Target) -> Result<Vec<Row>, Strin
                 instructions: total as f64 / n as f64,
                 max_instructions: tally.calls.iter().map(|c| c.0).max().unwrap_or(0),
                 est_cycles: cycles as f64 / n as f64,
+                max_stack_bytes: 0,
             })
         })
         .collect()
