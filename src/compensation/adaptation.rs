@@ -28,9 +28,15 @@
 //! - One scale for Fc and Fs together (the shape of S is kept); an asymmetry
 //!   between the directions averages into θ.
 
-use super::{non_negative, positive, ConfigError, Setting, SignalError};
+// Arithmetic here is on the generic number type `T`, whose operators are
+// total by the `Scalar` contract (IEEE `f32`; saturating `Q16`): no panic, no
+// wrap.
+#![allow(clippy::arithmetic_side_effects)]
+
+use super::{non_negative, positive, setting_in, ConfigError, Setting, SignalError};
 use crate::model::Model;
 use crate::params::Params;
+use crate::scalar::{Scalar, Units};
 
 /// Settings of a [`LevelAdaptation`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -48,19 +54,33 @@ pub struct AdaptationConfig {
     pub period: f32,
 }
 
-/// The level-scale estimator; starts at θ = 1.
+/// The level-scale estimator; starts at θ = 1. In the number type `T`
+/// (`f32`, or [`Q16`](crate::Q16) with forces in units of Fs and velocities
+/// in units of V).
+///
+/// In Q16 the per-sample increment γ·T·r/H is rounded to 2⁻¹⁶: increments
+/// below half of that (|r/H| < 2⁻¹⁷/(γ·T), 0.8 % for γ·T = 1e-3) are lost,
+/// a deadband on the relative residual.
 #[derive(Clone, Debug, PartialEq)]
-pub struct LevelAdaptation {
-    step: f32,
-    min_scale: f32,
-    max_scale: f32,
-    min_speed: f32,
-    scale: f32,
+pub struct LevelAdaptation<T: Scalar = f32> {
+    step: T,
+    min_scale: T,
+    max_scale: T,
+    min_speed: T,
+    scale: T,
 }
 
-impl LevelAdaptation {
+impl LevelAdaptation<f32> {
     /// Validates the settings; θ starts at 1.
     pub fn new(config: AdaptationConfig) -> Result<Self, ConfigError> {
+        Self::with_units(config, Units::SI)
+    }
+}
+
+impl<T: Scalar> LevelAdaptation<T> {
+    /// Validates the settings for a model with `units`
+    /// ([`Model::units`](crate::Model::units)); θ starts at 1.
+    pub fn with_units(config: AdaptationConfig, units: Units) -> Result<Self, ConfigError> {
         let rate = positive(config.rate, Setting::Rate)?;
         let period = positive(config.period, Setting::Period)?;
         let step = rate * period;
@@ -77,34 +97,35 @@ impl LevelAdaptation {
         }
         let min_speed = non_negative(config.min_speed, Setting::MinSpeed)?;
         Ok(Self {
-            step,
-            min_scale,
-            max_scale,
-            min_speed,
-            scale: 1.0,
+            step: setting_in(step, 1.0, Setting::Rate)?,
+            min_scale: setting_in(min_scale, 1.0, Setting::MinScale)?,
+            max_scale: setting_in(max_scale, 1.0, Setting::MaxScale)?,
+            min_speed: setting_in(min_speed, units.velocity, Setting::MinSpeed)?,
+            scale: T::ONE,
         })
     }
 
     /// Feeds one sample: the observer's `residual` r [N], the `regressor` H
-    /// [N] (model dry friction at unit scale), the `velocity` [m/s] and
-    /// whether the model is `sliding` (out of presliding). Returns θ [-].
-    /// Frozen unless sliding with |velocity| ≥ min_speed and H ≠ 0; a
-    /// non-finite input is rejected and leaves θ unchanged.
+    /// [N] (model dry friction at unit scale), the `velocity` [m/s] (model
+    /// units for fixed point) and whether the model is `sliding` (out of
+    /// presliding). Returns θ [-]. Frozen unless sliding with |velocity| ≥
+    /// min_speed and H ≠ 0; a non-finite input is rejected and leaves θ
+    /// unchanged.
     pub fn update(
         &mut self,
-        residual: f32,
-        regressor: f32,
-        velocity: f32,
+        residual: T,
+        regressor: T,
+        velocity: T,
         sliding: bool,
-    ) -> Result<f32, SignalError> {
+    ) -> Result<T, SignalError> {
         if !(residual.is_finite() && regressor.is_finite()) {
             return Err(SignalError::Force);
         }
         if !velocity.is_finite() {
             return Err(SignalError::Velocity);
         }
-        if sliding && libm::fabsf(velocity) >= self.min_speed && regressor != 0.0 {
-            let next = self.scale + self.step * residual / regressor;
+        if sliding && velocity.abs() >= self.min_speed && regressor != T::ZERO {
+            let next = self.scale + self.step * (residual / regressor);
             // NaN cannot arise (finite / non-zero); ±∞ clamps to the bounds.
             self.scale = if next < self.min_scale {
                 self.min_scale
@@ -118,13 +139,13 @@ impl LevelAdaptation {
     }
 
     /// The scale θ [-].
-    pub fn scale(&self) -> f32 {
+    pub fn scale(&self) -> T {
         self.scale
     }
 
     /// Returns θ to 1.
     pub fn reset(&mut self) {
-        self.scale = 1.0;
+        self.scale = T::ONE;
     }
 }
 

@@ -171,6 +171,8 @@ pub fn all(only: &[String]) -> Result<Vec<String>, String> {
     ];
     // Cortex-M4F only (the closed loop simulates 40 s of plant in 5 µs steps).
     let m4f_only: [(&str, Check); 2] = [("long_run", long_run), ("closed_loop", closed_loop)];
+    // Cortex-M0 only: the Q16 compensators.
+    let m0_only: [(&str, Check); 1] = [("closed_loop_fixed", closed_loop_fixed)];
     let wanted = |name: &str| only.is_empty() || only.iter().any(|o| name.contains(o.as_str()));
     let mut report = Vec::new();
     for target in qemu::TARGETS {
@@ -183,6 +185,11 @@ pub fn all(only: &[String]) -> Result<Vec<String>, String> {
     for (name, check) in m4f_only {
         if wanted(name) {
             report.push(check(qemu::TARGETS[0])?);
+        }
+    }
+    for (name, check) in m0_only {
+        if wanted(name) {
+            report.push(check(qemu::target("thumbv6m-none-eabi")?)?);
         }
     }
     Ok(report)
@@ -335,12 +342,38 @@ const CLOSED_LOOP_EFFORT_BOUND: f64 = 0.01;
 
 /// `closed_loop`: the MCU's closed-loop figures on the MODEL.md plant against
 /// `breakaway-lab closed-loop`'s (the same constants, checked from the `cfg`
-/// line).
+/// line), the five `f32` compensators.
 pub fn closed_loop(target: Target) -> Result<String, String> {
+    compare_closed_loop(
+        "closed_loop",
+        target,
+        &breakaway_lab::closed_loop::COMPENSATORS,
+    )
+}
+
+/// `closed_loop_fixed`: the same benchmark on the Cortex-M0 with the
+/// presliding compensators in Q16.16, against the host's f64 run of the
+/// `f32` ones.
+pub fn closed_loop_fixed(target: Target) -> Result<String, String> {
+    use breakaway_lab::closed_loop::Compensator;
+    compare_closed_loop(
+        "closed_loop_fixed",
+        target,
+        &[Compensator::Presliding, Compensator::PreslidingObserver],
+    )
+}
+
+fn compare_closed_loop(
+    example: &str,
+    target: Target,
+    compensators: &[breakaway_lab::closed_loop::Compensator],
+) -> Result<String, String> {
     use breakaway_lab::closed_loop as host;
-    let output = qemu::run_example("closed_loop", target)?;
+    let output = qemu::run_example(example, target)?;
     let cfg = records(&output, "cfg")?;
-    let (line, fields) = cfg.first().ok_or("closed_loop printed no `cfg` line")?;
+    let (line, fields) = cfg
+        .first()
+        .ok_or_else(|| format!("{example} printed no `cfg` line"))?;
     let expected = [
         host::PERIOD,
         host::AMPLITUDE,
@@ -356,29 +389,29 @@ pub fn closed_loop(target: Target) -> Result<String, String> {
         let got = field(fields, i + 1, line)?;
         if ((got - want) / want).abs() > 1e-6 {
             return Err(format!(
-                "closed_loop: `{line}` field {} is {got}, the host benchmark uses {want}",
+                "{example}: `{line}` field {} is {got}, the host benchmark uses {want}",
                 i + 1
             ));
         }
     }
     let rows = records(&output, "cl")?;
-    if rows.len() != host::COMPENSATORS.len() {
+    if rows.len() != compensators.len() {
         return Err(format!(
-            "closed_loop printed {} rows, expected {}",
+            "{example} printed {} rows, expected {}",
             rows.len(),
-            host::COMPENSATORS.len()
+            compensators.len()
         ));
     }
     let (mut worst_error, mut worst_effort) = (0.0f64, 0.0f64);
     let mut summary = Vec::new();
-    for ((line, fields), compensator) in rows.iter().zip(host::COMPENSATORS) {
+    for ((line, fields), compensator) in rows.iter().zip(compensators) {
         if fields.get(1) != Some(&compensator.name()) {
             return Err(format!(
-                "closed_loop: `{line}`, expected {}",
+                "{example}: `{line}`, expected {}",
                 compensator.name()
             ));
         }
-        let want = host::run(host::PlantKind::Model, compensator, host::Drift::None)?;
+        let want = host::run(host::PlantKind::Model, *compensator, host::Drift::None)?;
         for (i, expected, bound) in [
             (2, want.rms_error, CLOSED_LOOP_ERROR_BOUND),
             (3, want.peak_reversal_error, CLOSED_LOOP_ERROR_BOUND),
@@ -393,7 +426,7 @@ pub fn closed_loop(target: Target) -> Result<String, String> {
             }
             if error.is_nan() || error > bound {
                 return Err(format!(
-                    "{}: `{line}` column {i} is {got}, host {expected} (rel. error {error:.2e}, bound {bound})",
+                    "{example} on {}: `{line}` column {i} is {got}, host {expected} (rel. error {error:.2e}, bound {bound})",
                     target.core
                 ));
             }
@@ -405,7 +438,7 @@ pub fn closed_loop(target: Target) -> Result<String, String> {
         ));
     }
     Ok(format!(
-        "closed_loop on {}: peak reversal errors {}; vs host worst {worst_error:.2e} on errors \
+        "{example} on {}: peak reversal errors {}; vs host worst {worst_error:.2e} on errors \
          (bound {CLOSED_LOOP_ERROR_BOUND}), {worst_effort:.2e} on effort (bound {CLOSED_LOOP_EFFORT_BOUND})",
         target.core,
         summary.join(", ")
