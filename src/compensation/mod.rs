@@ -20,9 +20,44 @@
 //!   command; keeps measured (k, F_ba) pairs (MODEL.md §4) in a fixed-capacity
 //!   buffer for a refit of the predictor on the host.
 //!
-//! All of it is `f32`, allocation-free and panic-free; settings are validated
+//! All of it is allocation-free and panic-free; settings are validated
 //! once at construction ([`ConfigError`] names the setting) and a non-finite
 //! sample is rejected without changing any state.
+//!
+//! [`Feedforward`], [`DisturbanceObserver`] and [`LevelAdaptation`] (and
+//! `hal::PwmForce`) are generic over the number type: the same code runs in
+//! `f32` and in [`Q16`](crate::Q16) on an MCU without an FPU. The settings
+//! stay in SI units; `with_units(…, model.units())` converts them once, and
+//! the signals are then in the model's units (force in Fs, velocity in V):
+//!
+//! ```
+//! use breakaway::compensation::{DisturbanceObserver, Feedforward, FeedforwardConfig,
+//!     ObserverConfig};
+//! use breakaway::{Model, Params, Scalar, Q16};
+//! let mut model = Model::<Q16>::UNIT_COULOMB;
+//! model.set_params(Params { fc: 1.0, fs: 1.5, v_stribeck: 1e-3, delta: 1.0,
+//!                           sigma: 0.0, z_max: 1e-5, epsilon: 0.0 })?;
+//! let units = model.units();
+//! let scale = model.position_scale::<i32>(1e-8).unwrap(); // 10 nm counts
+//! let mut ff = Feedforward::<i32, Q16>::with_units(
+//!     FeedforwardConfig::default(), units, 0, scale).unwrap();
+//! let config = ObserverConfig { mass: 1.0, bandwidth: 100.0, period: 1e-3 };
+//! let mut dob = DisturbanceObserver::<Q16>::with_units(config, units).unwrap();
+//! // Each period: the command of the period just ended, the measured
+//! // velocity and the feedforward applied in it go to the observer; the
+//! // new command adds the feedforward and the observer's residual r.
+//! let (mut command, mut u_ff) = (Q16::ZERO, Q16::ZERO);
+//! for count in [0, 20, 60, 120] {
+//!     let v = model.velocity(2e-4).unwrap(); // from the counts, in practice
+//!     let r = dob.update(command, v, u_ff).unwrap();
+//!     u_ff = ff.update(&model, count, v).unwrap();
+//!     command = u_ff + r; // plus the controller's own output
+//! }
+//! assert!(u_ff.to_f32() * units.force > 0.5); // N
+//! # Ok::<(), breakaway::ParamError>(())
+//! ```
+//!
+//! [`BreakAwayDetector`] and [`SplitLevelAdaptation`] are `f32` only.
 
 // Arithmetic here is on the generic number type `T`, whose operators are
 // total by the `Scalar` contract (IEEE `f32`; saturating `Q16`): no panic, no

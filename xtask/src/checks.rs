@@ -172,7 +172,10 @@ pub fn all(only: &[String]) -> Result<Vec<String>, String> {
     // Cortex-M4F only (the closed loop simulates 40 s of plant in 5 µs steps).
     let m4f_only: [(&str, Check); 2] = [("long_run", long_run), ("closed_loop", closed_loop)];
     // Cortex-M0 only: the Q16 compensators.
-    let m0_only: [(&str, Check); 1] = [("closed_loop_fixed", closed_loop_fixed)];
+    let m0_only: [(&str, Check); 2] = [
+        ("closed_loop_fixed", closed_loop_fixed),
+        ("compensation_fixed", compensation_fixed),
+    ];
     let wanted = |name: &str| only.is_empty() || only.iter().any(|o| name.contains(o.as_str()));
     let mut report = Vec::new();
     for target in qemu::TARGETS {
@@ -230,6 +233,62 @@ fn soft_f64_symbols(elf: &std::path::Path) -> Result<Vec<String>, String> {
         ));
     }
     Ok(names.into_iter().filter(|name| f64_routine(name)).collect())
+}
+
+/// The loop of the `compensation_fixed` firmware, run here on the host.
+#[path = "../../examples/common/compensation_loop.rs"]
+#[allow(dead_code)]
+mod compensation_loop;
+
+/// Flash and RAM budget of the whole Q16 compensation loop on the M0.
+const LOOP_FLASH_BUDGET: u64 = 16 * 1024;
+const LOOP_RAM_BUDGET: u64 = 2 * 1024;
+
+/// `compensation_fixed`: the Q16 compensation loop (model built in place,
+/// presliding feedforward, observer, level adaptation, PWM output) as a
+/// Cortex-M0 firmware: flash from the ELF's loaded sections, RAM as .data +
+/// .bss + the painted stack depth; the duty checksum against the same loop
+/// on the host (identical integer arithmetic: equal).
+pub fn compensation_fixed(target: Target) -> Result<String, String> {
+    use object::{Object, ObjectSection};
+    let elf = qemu::build("compensation_fixed", target)?;
+    let output = qemu::run_example("compensation_fixed", target)?;
+    let number = |tag: &str| -> Result<u64, String> {
+        output
+            .lines()
+            .find_map(|line| line.strip_prefix(tag)?.trim().parse().ok())
+            .ok_or_else(|| format!("compensation_fixed printed no `{tag}` figure"))
+    };
+    let (stack, duty) = (number("stack ")?, number("duty ")?);
+    let host = compensation_loop::control().ok_or("compensation_fixed: the host run failed")?;
+    if u64::from(host) != duty {
+        return Err(format!(
+            "compensation_fixed on {}: duty checksum {duty}, the host run {host}",
+            target.core
+        ));
+    }
+    let data = std::fs::read(&elf).map_err(|e| format!("{}: {e}", elf.display()))?;
+    let file = object::File::parse(&*data).map_err(|e| format!("{}: {e}", elf.display()))?;
+    let size = |names: &[&str]| -> u64 {
+        file.sections()
+            .filter(|s| s.name().is_ok_and(|n| names.contains(&n)))
+            .map(|s| s.size())
+            .sum()
+    };
+    let flash = size(&[".vector_table", ".text", ".rodata", ".data"]);
+    let statics = size(&[".data", ".bss", ".uninit"]);
+    if flash == 0 {
+        return Err(format!("{}: no .text section found", elf.display()));
+    }
+    let ram = statics + stack;
+    let verdict = |x: u64, budget: u64| if x <= budget { "within" } else { "OVER" };
+    Ok(format!(
+        "compensation_fixed on {}: flash {flash} B ({} {LOOP_FLASH_BUDGET} B), RAM {ram} B = {statics} B static \
+         + {stack} B stack ({} {LOOP_RAM_BUDGET} B); duty checksum {duty} = host",
+        target.core,
+        verdict(flash, LOOP_FLASH_BUDGET),
+        verdict(ram, LOOP_RAM_BUDGET)
+    ))
 }
 
 /// `fixed_point`: the Q16.16 model's friction and break-away against the f64

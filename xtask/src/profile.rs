@@ -145,6 +145,7 @@ pub fn run(options: &Options) -> Result<(), String> {
         println!("{text}");
     } else {
         print_table(&rows, options);
+        print_model_sizes();
     }
     Ok(())
 }
@@ -165,6 +166,29 @@ pub fn check_targets() -> Result<(), String> {
     }
     print_table(&rows, &Options::default());
     Ok(())
+}
+
+/// RAM of a fixed-point model per table resolution K (points per octave of
+/// the S table). The layout has no pointers and no `usize`, so the host's
+/// size is the target's.
+fn print_model_sizes() {
+    use breakaway::{Model, Q16};
+    use std::mem::size_of;
+    println!("Model<Q16<K>> in RAM (S table 31·K cells of 2 bytes, in the model); the g table is shared, in flash:");
+    println!("{:>5} {:>10}", "K", "RAM bytes");
+    for (k, bytes) in [
+        (4, size_of::<Model<Q16<4>>>()),
+        (8, size_of::<Model<Q16<8>>>()),
+        (16, size_of::<Model<Q16<16>>>()),
+        (32, size_of::<Model<Q16<32>>>()),
+        (64, size_of::<Model<Q16<64>>>()),
+    ] {
+        println!("{k:>5} {bytes:>10}");
+    }
+    println!(
+        "g table (flash, every K): {} bytes\n",
+        breakaway::fixed_point::SHAPE_TABLE_BYTES
+    );
 }
 
 fn print_table(rows: &[Row], options: &Options) {

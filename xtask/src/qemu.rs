@@ -55,14 +55,15 @@ pub fn target(triple: &str) -> Result<Target, String> {
         })
 }
 
-/// Builds a firmware example in release mode; returns the ELF's path.
+/// Builds a firmware example in release mode (features `firmware` and
+/// `hal`); returns the ELF's path.
 pub fn build(example: &str, target: Target) -> Result<PathBuf, String> {
     run(cargo().args([
         "build",
         "--quiet",
         "--release",
         "--features",
-        "firmware",
+        "firmware,hal",
         "--example",
         example,
         "--target",
