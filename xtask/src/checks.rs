@@ -260,6 +260,13 @@ pub fn compensation_fixed(target: Target) -> Result<String, String> {
             .ok_or_else(|| format!("compensation_fixed printed no `{tag}` figure"))
     };
     let (stack, duty) = (number("stack ")?, number("duty ")?);
+    let f64_symbols = soft_f64_symbols(&elf)?;
+    if !f64_symbols.is_empty() {
+        return Err(format!(
+            "compensation_fixed: soft-float f64 routines linked: {}",
+            f64_symbols.join(", ")
+        ));
+    }
     let host = compensation_loop::control().ok_or("compensation_fixed: the host run failed")?;
     if u64::from(host) != duty {
         return Err(format!(
@@ -284,7 +291,7 @@ pub fn compensation_fixed(target: Target) -> Result<String, String> {
     let verdict = |x: u64, budget: u64| if x <= budget { "within" } else { "OVER" };
     Ok(format!(
         "compensation_fixed on {}: flash {flash} B ({} {LOOP_FLASH_BUDGET} B), RAM {ram} B = {statics} B static \
-         + {stack} B stack ({} {LOOP_RAM_BUDGET} B); duty checksum {duty} = host",
+         + {stack} B stack ({} {LOOP_RAM_BUDGET} B); no f64 routine linked; duty checksum {duty} = host",
         target.core,
         verdict(flash, LOOP_FLASH_BUDGET),
         verdict(ram, LOOP_RAM_BUDGET)
