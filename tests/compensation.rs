@@ -334,6 +334,15 @@ fn adaptation_is_frozen_bounded_and_rejects_bad_samples() {
             },
             Setting::Period,
         ),
+        (
+            // γ·T underflows to 0 (a fuzz finding: 0·∞ gave θ = NaN).
+            AdaptationConfig {
+                rate: 1e-30,
+                period: 1e-30,
+                ..config
+            },
+            Setting::Rate,
+        ),
     ] {
         assert_eq!(LevelAdaptation::new(c).unwrap_err(), ConfigError(s));
     }

@@ -84,7 +84,9 @@ impl<T: Scalar> LevelAdaptation<T> {
         let rate = positive(config.rate, Setting::Rate)?;
         let period = positive(config.period, Setting::Period)?;
         let step = rate * period;
-        if !(step.is_finite() && step <= 1.0) {
+        // γ·T can underflow to 0 from two positive settings; a zero step
+        // would turn an infinite r/H into 0·∞ = NaN.
+        if !(step.is_finite() && step > 0.0 && step <= 1.0) {
             return Err(ConfigError(Setting::Rate));
         }
         let min_scale = positive(config.min_scale, Setting::MinScale)?;
