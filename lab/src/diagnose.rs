@@ -225,31 +225,44 @@ fn quick() -> FitOptions {
     }
 }
 
-/// The best of several starting models after a short fit, then fitted fully.
-fn fit_multistart(p: &Prepared, starts: &[Model], progress: &mut dyn FnMut(&str)) -> Model {
-    let mut best: Option<(f64, Model)> = None;
+/// How many of the best short fits [`fit_multistart`] fits fully before
+/// it gives up on finding one that `sound` accepts.
+const FULL_FITS: usize = 3;
+
+/// The best of several starting models after a short fit, then fitted
+/// fully; when the full fit ends where `sound` rejects it (a parameter at
+/// a bound), the next-best short fit is tried, up to [`FULL_FITS`]: a start
+/// that runs to a bound on the training blocks must not hide one that
+/// converges inside the range.
+fn fit_multistart(
+    p: &Prepared,
+    starts: &[Model],
+    sound: &dyn Fn(&Model) -> bool,
+    progress: &mut dyn FnMut(&str),
+) -> Model {
+    if let [only] = starts {
+        progress("start 1/1");
+        let params = fit::params_of(only);
+        return fit::fit(p, only, &params, &FitOptions::default(), &mut |_| {}).model;
+    }
+    let mut short: Vec<(f64, Model)> = Vec::new();
     for (i, s) in starts.iter().enumerate() {
         progress(&format!("start {}/{}", i + 1, starts.len()));
         let params = fit::params_of(s);
-        let opts = if starts.len() > 1 {
-            quick()
-        } else {
-            FitOptions::default()
-        };
-        let r = fit::fit(p, s, &params, &opts, &mut |_| {});
-        if best.as_ref().is_none_or(|(c, _)| r.cost < *c) {
-            best = Some((r.cost, r.model));
-        }
+        let r = fit::fit(p, s, &params, &quick(), &mut |_| {});
+        short.push((r.cost, r.model));
     }
-    let Some((_, m)) = best else {
-        return starts.first().cloned().unwrap_or_else(base_placeholder);
-    };
-    if starts.len() > 1 {
+    short.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut first = None;
+    for (_, m) in short.into_iter().take(FULL_FITS) {
         let params = fit::params_of(&m);
-        fit::fit(p, &m, &params, &FitOptions::default(), &mut |_| {}).model
-    } else {
-        m
+        let full = fit::fit(p, &m, &params, &FitOptions::default(), &mut |_| {}).model;
+        if sound(&full) {
+            return full;
+        }
+        first.get_or_insert(full);
     }
+    first.unwrap_or_else(|| starts.first().cloned().unwrap_or_else(base_placeholder))
 }
 
 fn base_placeholder() -> Model {
@@ -412,6 +425,30 @@ fn regress(p: &Prepared, r: &[f64], s: &[f64]) -> f64 {
     }
 }
 
+/// Two-parameter regression of `r` on the filtered `sgn(v̂)` and `s`
+/// (training samples): `(ΔF, c)` with `r ≈ ΔF·sgn(v̂) + c·s`. A velocity
+/// strengthening that the start model lacks is partly taken up by its
+/// Coulomb level (a concave one above all); regressing on both gives the
+/// candidate's start without that bias.
+fn regress_with_level(p: &Prepared, r: &[f64], s: &[f64]) -> (f64, f64) {
+    let sgn: Vec<f64> = p.v.iter().map(|v| v.signum()).collect();
+    let (mut aa, mut ab, mut bb, mut ar, mut br) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    for i in p.valid().filter(|&i| !p.held_out[i]) {
+        let (a, b, w) = (p.filter_at(&sgn, i), p.filter_at(s, i), p.weight[i]);
+        aa += w * a * a;
+        ab += w * a * b;
+        bb += w * b * b;
+        ar += w * a * r[i];
+        br += w * b * r[i];
+    }
+    let det = aa * bb - ab * ab;
+    if det > 1e-12 * aa * bb && det > 0.0 {
+        ((ar * bb - br * ab) / det, (br * aa - ar * ab) / det)
+    } else {
+        (0.0, regress(p, r, s))
+    }
+}
+
 /// The best wavelength of a spatial periodogram of `r` over moving samples:
 /// `(λ, A·cos φ, A·sin φ, explained fraction)`.
 pub fn ripple_scan(p: &Prepared, r: &[f64], filtered: bool) -> (f64, f64, f64, f64) {
@@ -476,6 +513,14 @@ pub fn ripple_scan(p: &Prepared, r: &[f64], filtered: bool) -> (f64, f64, f64, f
     best
 }
 
+/// Moves Fc and Fs together by `level` [N], keeping Fc at least a tenth
+/// of its value.
+fn shift_levels(m: &mut Model, level: f64) {
+    let level = level.max(-0.9 * m.fc);
+    m.fc += level;
+    m.fs += level;
+}
+
 /// Starting models for adding `effect` to `m` (refitted from each).
 fn candidate_starts(p: &Prepared, m: &Model, effect: &str, r: &[f64]) -> Vec<Model> {
     let mut out = Vec::new();
@@ -487,18 +532,43 @@ fn candidate_starts(p: &Prepared, m: &Model, effect: &str, r: &[f64]) -> Vec<Mod
     };
     match effect {
         "viscous" => {
-            let s = regress(p, r, &p.v)
-                .max(1e-3 * m.fc / p.v.iter().fold(1e-12f64, |a, v| a.max(v.abs())));
+            let v_max = p.v.iter().fold(1e-12f64, |a, v| a.max(v.abs()));
+            let s = regress(p, r, &p.v).max(1e-3 * m.fc / v_max);
             out.push(with(&|c| c.sigma = s));
+            let (level, s) = regress_with_level(p, r, &p.v);
+            out.push(with(&|c| {
+                c.sigma = s.max(1e-3 * m.fc / v_max);
+                shift_levels(c, level);
+            }));
         }
         "nonlinear_viscous" => {
             let v_max = p.v.iter().fold(1e-12f64, |a, v| a.max(v.abs()));
             for n in [0.3, 0.6, 1.5, 2.0] {
                 let s: Vec<f64> = p.v.iter().map(|v| v.signum() * v.abs().powf(n)).collect();
-                let sigma_n = regress(p, r, &s).max(1e-3 * m.fc / v_max.powf(n));
+                let least = 1e-3 * m.fc / v_max.powf(n);
+                let sigma_n = regress(p, r, &s).max(least);
                 out.push(with(&|c| {
                     c.effects.nonlinear_viscous = Some(NonlinearViscous { sigma_n, n })
                 }));
+                let (level, sigma_n) = regress_with_level(p, r, &s);
+                let sigma_n = sigma_n.max(least);
+                out.push(with(&|c| {
+                    c.effects.nonlinear_viscous = Some(NonlinearViscous { sigma_n, n });
+                    shift_levels(c, level);
+                }));
+                // A base model without the strengthening bends its
+                // Stribeck shape (a wide, shallow dip with δ < 1 mimics a
+                // concave rise): restart the shape too, as for lag.
+                if n == 0.6 || n == 1.5 {
+                    let v_lo = low_speed(p).unwrap_or(m.v_stribeck);
+                    out.push(with(&|c| {
+                        c.effects.nonlinear_viscous = Some(NonlinearViscous { sigma_n, n });
+                        shift_levels(c, level);
+                        c.delta = 2.0;
+                        c.v_stribeck = v_lo;
+                        c.fs = c.fs.clamp(1.1 * c.fc, 2.0 * c.fc);
+                    }));
+                }
             }
         }
         "offset" => {
@@ -712,13 +782,22 @@ pub fn dwell_spread(p: &Prepared, m: &Model) -> f64 {
     }
 }
 
+/// Share of the remaining gap (model error above the floor) that the
+/// general `nonlinear_viscous` must remove beyond `viscous` to be named
+/// instead of it.
+pub const NESTED_GAP_GAIN: f64 = 0.1;
+
 /// `viscous` is `nonlinear_viscous` with `n = 1`: the general form is
-/// taken only when it beats the nested one by [`ACCEPT_GAIN_PER_PARAM`]
-/// (its one extra parameter); otherwise `viscous` moves to the front.
-fn prefer_nested(cands: &mut [Candidate]) {
+/// taken only when its model error is [`NESTED_GAP_GAIN`] below the nested
+/// one's; otherwise `viscous` moves to the front. The comparison is on the
+/// gap, not on the raw rms: where noise and resolution dominate the rms,
+/// a fixed share of it would hide an exponent the data clearly show.
+fn prefer_nested(cands: &mut [Candidate], floor: f64) {
     let pos = |name: &str| cands.iter().position(|c| c.effect == name);
     if let (Some(0), Some(v)) = (pos("nonlinear_viscous"), pos("viscous")) {
-        if cands[0].rms > (1.0 - ACCEPT_GAIN_PER_PARAM) * cands[v].rms {
+        let general = fit::model_error(cands[0].rms, floor);
+        let nested = fit::model_error(cands[v].rms, floor);
+        if general > (1.0 - NESTED_GAP_GAIN) * nested {
             cands.swap(0, v);
         }
     }
@@ -804,14 +883,16 @@ pub fn degenerate(p: &Prepared, m: &Model, name: &str) -> Option<String> {
 
 /// Why `m`'s `nonlinear_viscous` term is not a finding, or `None`:
 /// `n = 1` is `viscous` (MODEL.md §5 names it only for n ≠ 1), and an `n`
-/// at a bound of [`fit::NV_EXP_RANGE`] is not identified.
+/// at the lower bound of [`fit::NV_EXP_RANGE`] is not identified (the upper, 2, is MODEL.md's limit).
 pub fn nonlinear_viscous_degenerate(m: &Model) -> Option<String> {
     let nv = m.effects.nonlinear_viscous?;
     let near = |x: f64, bound: f64| (x / bound).ln().abs() < 0.02;
     if (nv.n - 1.0).abs() < 0.1 {
         Some(format!("n = {:.3} is viscous", nv.n))
-    } else if near(nv.n, fit::NV_EXP_RANGE.0) || near(nv.n, fit::NV_EXP_RANGE.1) {
-        Some(format!("n = {:.3} at a bound of its range", nv.n))
+    } else if near(nv.n, fit::NV_EXP_RANGE.0) {
+        // The upper end, n = 2, is MODEL.md's own limit and a valid value;
+        // the lower end is only the fit's.
+        Some(format!("n = {:.3} at the lower bound of its range", nv.n))
     } else {
         None
     }
@@ -1168,7 +1249,8 @@ pub fn diagnose(
         // A local minimum with V → 0 or δ at a bound: restart the shape
         // from the data's low speeds before calling Stribeck absent.
         let starts = restarts(&p, &model);
-        let again = fit_multistart(&p, &starts, &mut |s| {
+        let sound = |m: &Model| degenerate(&p, m, "stribeck").is_none();
+        let again = fit_multistart(&p, &starts, &sound, &mut |s| {
             show(&format!("restarting the base fit ({s})"))
         });
         if held_rms(&p, &again).0 < held_rms(&p, &model).0 {
@@ -1211,7 +1293,10 @@ pub fn diagnose(
                 ci + 1,
                 names.len()
             );
-            let fitted = fit_multistart(&p, &starts, &mut |s| show(&format!("{label} ({s})")));
+            let sound = |m: &Model| degenerate(&p, m, name).is_none();
+            let fitted = fit_multistart(&p, &starts, &sound, &mut |s| {
+                show(&format!("{label} ({s})"))
+            });
             if !fit::has_effect(&fitted, name) {
                 continue;
             }
@@ -1237,7 +1322,7 @@ pub fn diagnose(
             });
         }
         cands.sort_by(|a, b| a.score.total_cmp(&b.score));
-        prefer_nested(&mut cands);
+        prefer_nested(&mut cands, floor);
         let accept = cands
             .first()
             .is_some_and(|c| c.score < 0.0 && c.rms <= (1.0 - required_gain(&c.effect)) * rms);
@@ -1327,7 +1412,8 @@ pub fn diagnose(
                 if starts.is_empty() {
                     continue;
                 }
-                let fitted = fit_multistart(&p, &starts, &mut |_| {});
+                let sound = |m: &Model| degenerate(&p, m, alt).is_none();
+                let fitted = fit_multistart(&p, &starts, &sound, &mut |_| {});
                 if !fit::has_effect(&fitted, alt) || degenerate(&p, &fitted, alt).is_some() {
                     continue;
                 }

@@ -140,6 +140,10 @@ pub fn auto_window(rec: &crate::data::Record) -> usize {
         .unwrap_or(MAX_AUTO_HALF_WIDTH)
 }
 
+/// Half-width [samples] of the stop rule ([`Prepared::mark_stops`]): the
+/// position on one count over `i−2 … i+2`.
+pub const STOP_HALF_WIDTH: usize = 2;
+
 /// Number of time blocks of the split.
 pub const BLOCKS: usize = 10;
 /// Held-out blocks (0-based).
@@ -184,6 +188,9 @@ pub struct Prepared {
     /// Measured force at still samples [N]: mean of `ū` over the sample and
     /// the two before it (0 elsewhere).
     pub u_still: Vec<f64>,
+    /// Still by the window rule alone (position within one count over
+    /// `i−k … i+k`), before [`Prepared::mark_stops`] adds the stops.
+    window_still: Vec<bool>,
     /// Variance of the residual of a correct model at each sample [N²]
     /// (noise and resolution, [`Prepared::set_error_weights`]); `σ0²` until
     /// then.
@@ -311,6 +318,7 @@ impl Prepared {
             resolution,
             v_rest,
             dt,
+            window_still: still.clone(),
             still,
             u_still,
             var: vec![0.0; n],
@@ -434,6 +442,7 @@ impl Prepared {
     /// (from the start model), so every figure compared afterwards uses the
     /// same weights. Returns `σ0`.
     pub fn set_error_weights(&mut self, m: &Model, r: &[f64]) -> f64 {
+        self.mark_stops(m);
         let lag = 2 * self.k + 1;
         let q2 = self.resolution * self.resolution / 12.0;
         // Quantisation error of `m·â`: present wherever a second difference
@@ -502,6 +511,44 @@ impl Prepared {
             self.weight[i] *= sigma0 * sigma0 / var;
         }
         sigma0
+    }
+
+    /// Adds the **stops** of the motion to the still samples: a sample
+    /// whose position stays on one count over `i−2 … i+2`
+    /// ([`STOP_HALF_WIDTH`]) while model `m`, run along the counts, is in
+    /// gross sliding (w = 1). The axis has come to rest on that count
+    /// (usually after a reversal smaller than a count, which the counts do
+    /// not show), so its friction is the holding force; the model, which
+    /// sees no reversal, would go on with `±S(v̂)` at the velocity the
+    /// window still reports, a disagreement of up to `Fs + |u|` that no
+    /// friction effect explains. Such samples are re-anchored and not
+    /// scored, like the window-still ones. Inside presliding the rule
+    /// does not apply: there the branch itself is the slow motion, and
+    /// re-anchoring would restart it. Called once per record from the start
+    /// model (from [`Prepared::set_error_weights`]), so every model compared
+    /// on the record sees the same still samples.
+    pub fn mark_stops(&mut self, m: &Model) {
+        let n = self.len();
+        self.still.clone_from(&self.window_still);
+        let h = STOP_HALF_WIDTH;
+        let valid = self.valid();
+        let mut fr = Friction::new(m, self.t[0], self.x[0], self.v[0]);
+        for i in 0..n {
+            fr.update(m, self.t[i], self.x[i], self.v[i]);
+            if !self.still[i] && valid.contains(&i) && i >= h && i + h < n {
+                let on_count = self.x[i - h..=i + h].iter().all(|&x| x == self.x[i]);
+                let pre = fr.presliding();
+                if on_count && pre.direction() != 0 && pre.travel(m.z_max, self.x[i]) >= 1.0 {
+                    self.still[i] = true;
+                    let span = &self.u_mid[i - 2..=i];
+                    self.u_still[i] = span.iter().sum::<f64>() / span.len() as f64;
+                }
+            }
+            if self.still[i] {
+                let additive = fr.force() - fr.dry();
+                fr.anchor(self.x[i], self.u_still[i] - additive);
+            }
+        }
     }
 
     /// `‖c2‖`, the norm of the Savitzky–Golay second-derivative
