@@ -51,6 +51,19 @@ pub const ACCEPT_GAIN: f64 = 0.05;
 /// the real effect had been added.
 pub const ACCEPT_GAIN_PER_PARAM: f64 = 0.045;
 
+/// The relative reduction of the held-out rms from `before` to `after`
+/// that lies above the measurement `floor`: `(before − max(after,
+/// floor))/before`, 0 when `before` is at or below the floor. What a
+/// candidate removes below the floor is noise and resolution, however
+/// much BIC likes it: a record already at its floor is missing nothing.
+pub fn gain_above_floor(before: f64, after: f64, floor: f64) -> f64 {
+    if before > floor && before > 0.0 {
+        (before - after.max(floor)) / before
+    } else {
+        0.0
+    }
+}
+
 /// The gain a candidate must reach.
 pub fn required_gain(effect: &str) -> f64 {
     let p = match effect {
@@ -556,19 +569,6 @@ fn candidate_starts(p: &Prepared, m: &Model, effect: &str, r: &[f64]) -> Vec<Mod
                     c.effects.nonlinear_viscous = Some(NonlinearViscous { sigma_n, n });
                     shift_levels(c, level);
                 }));
-                // A base model without the strengthening bends its
-                // Stribeck shape (a wide, shallow dip with δ < 1 mimics a
-                // concave rise): restart the shape too, as for lag.
-                if n == 0.6 || n == 1.5 {
-                    let v_lo = low_speed(p).unwrap_or(m.v_stribeck);
-                    out.push(with(&|c| {
-                        c.effects.nonlinear_viscous = Some(NonlinearViscous { sigma_n, n });
-                        shift_levels(c, level);
-                        c.delta = 2.0;
-                        c.v_stribeck = v_lo;
-                        c.fs = c.fs.clamp(1.1 * c.fc, 2.0 * c.fc);
-                    }));
-                }
             }
         }
         "offset" => {
@@ -1323,9 +1323,9 @@ pub fn diagnose(
         }
         cands.sort_by(|a, b| a.score.total_cmp(&b.score));
         prefer_nested(&mut cands, floor);
-        let accept = cands
-            .first()
-            .is_some_and(|c| c.score < 0.0 && c.rms <= (1.0 - required_gain(&c.effect)) * rms);
+        let accept = cands.first().is_some_and(|c| {
+            c.score < 0.0 && gain_above_floor(rms, c.rms, floor) >= required_gain(&c.effect)
+        });
         if !accept {
             last_round = cands;
             break;
@@ -1365,7 +1365,7 @@ pub fn diagnose(
             let params = fit::params_of(&without);
             let refit = fit::fit(&p, &without, &params, &FitOptions::default(), &mut |_| {}).model;
             let (w_rms, w_r) = held_rms(&p, &refit);
-            if w_rms * (1.0 - required_gain(&name)) <= rms {
+            if gain_above_floor(w_rms, rms, floor) < required_gain(&name) {
                 pruned.push((
                     name,
                     fit::model_error(w_rms, floor),
