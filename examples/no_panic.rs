@@ -127,11 +127,27 @@ fn main() -> ! {
             break_away_speed: 1e-3,
             min_rate: 0.01,
         };
+        // A ramp at rest, then a break-away: the measurement path runs.
+        let ramp = [(0.0, 0.0), (0.1, 0.0), (0.2, 0.0), (0.3, 0.0), (0.4, 2e-3)];
         if let Ok(mut det) =
             BreakAwayDetector::<8>::new(sample(detector), &model, Variant::Consistent, 0.95)
         {
-            if let Ok(Some(m)) = det.update(&model, sample(1.0), sample(0.0)) {
-                acc += m.force;
+            for (u, v) in ramp {
+                if let Ok(Some(m)) = det.update(&model, sample(u), sample(v)) {
+                    acc += m.force;
+                }
+            }
+        }
+        if let Ok(mut det) =
+            BreakAwayDetector::<8, Q16>::new(sample(detector), &fixed, Variant::Consistent, 0.95)
+        {
+            for (u, v) in ramp {
+                let (u, v) = (Q16::from_f32(u / 1.5), fixed.velocity(v));
+                if let (Some(u), Some(v)) = (u, v) {
+                    if let Ok(Some(m)) = det.update(&fixed, sample(u), sample(v)) {
+                        acc += (m.rate + m.time).to_bits() as f32;
+                    }
+                }
             }
         }
         black_box(acc);

@@ -582,10 +582,281 @@ fn detector_measures_the_break_away_of_the_reference_dynamics() {
     let kept: Vec<f32> = detector.pairs().map(|(k, _)| k).collect();
     assert_eq!(kept.len(), 2);
     assert!((kept[0] - 5.0).abs() < 0.01 && (kept[1] - 10.0).abs() < 0.01);
+    let before = detector.clone();
     assert_eq!(
         detector.update(&model, f32::NAN, 0.0),
         Err(SignalError::Command)
     );
+    assert_eq!(detector, before);
+}
+
+/// The reference dynamics under a ramp u = k·t from rest: the samples
+/// (u [N], v [m/s]) every `period` [s] up to 50 ms past break-away, after
+/// 10 samples at rest.
+fn break_away_samples(judge: &reference::Model, k: f64, period: f64) -> Vec<(f32, f32)> {
+    let want = reference::simulate_break_away(judge, k, 0.95).unwrap();
+    let samples =
+        reference::simulate(judge, &|t| k * t, 0.0, 0.0, want.t_ba + 0.05, period).unwrap();
+    std::iter::repeat_n((0.0, 0.0), 10)
+        .chain(samples.iter().map(|s| (s.u as f32, s.v as f32)))
+        .collect()
+}
+
+/// The first break-away of a detector fed `samples` (u [N], v [m/s]),
+/// converted to model units by `force` and `velocity`.
+fn first_break_away<T: breakaway::compensation::Accumulate, const N: usize>(
+    detector: &mut BreakAwayDetector<N, T>,
+    model: &Model<T>,
+    samples: &[(f32, f32)],
+    convert: impl Fn(f32, f32) -> (T, T),
+) -> Option<breakaway::compensation::Measurement<T>> {
+    samples.iter().find_map(|&(u, v)| {
+        let (u, v) = convert(u, v);
+        detector.update(model, u, v).unwrap()
+    })
+}
+
+/// The Q16.16 detector (force in Fs, velocity in V) and the `f32` one fed
+/// the same reference break-aways, at 10 kHz and at 1 kHz with rises of up
+/// to 7.3 s (7 300 samples at 1 kHz, 29 000 at 10 kHz): the same k, F_ba and
+/// t within the fixed-point resolution, and the same predicted F_ba.
+///
+/// Bounds from the resolution 2⁻¹⁶ (Fs, s): the command is rounded to
+/// 2⁻¹⁷·Fs, which moves F_ba by as much and the least-squares k by at most
+/// 3·2⁻¹⁷·Fs/t; k and t are rounded once more to 2⁻¹⁷; the `f32` sums carry
+/// ~1e-5 relative on k. The predictor in Q16 is within 1e-3 of F_ba
+/// (`tests/fixed_point.rs`).
+#[test]
+fn fixed_detector_matches_the_f32_detector_on_the_reference_dynamics() {
+    use breakaway::{Scalar, Q16};
+    const LSB: f64 = 1.0 / 65536.0;
+    let fs = FIG5.fs as f64;
+    let float_model = Model::<f32>::new(FIG5).unwrap();
+    let fixed_model = Model::<Q16>::new(FIG5).unwrap();
+    let judge = reference_model(&FIG5, 1.0, 1.0);
+    let (mut worst_k, mut worst_f, mut worst_t, mut worst_p) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
+    for (period, rates) in [
+        (1e-4, &[0.5, 2.0, 5.0, 10.0][..]),
+        (1e-3, &[0.2, 0.5, 2.0, 10.0][..]),
+    ] {
+        let config = DetectorConfig {
+            period: period as f32,
+            rest_speed: 1e-5,
+            break_away_speed: 2e-3,
+            min_rate: 0.1,
+        };
+        let mut float =
+            BreakAwayDetector::<2>::new(config, &float_model, Variant::Consistent, 0.95).unwrap();
+        let mut fixed =
+            BreakAwayDetector::<2, Q16>::new(config, &fixed_model, Variant::Consistent, 0.95)
+                .unwrap();
+        for &k in rates {
+            let samples = break_away_samples(&judge, k, period);
+            let a = first_break_away(&mut float, &float_model, &samples, |u, v| (u, v)).unwrap();
+            let b = first_break_away(&mut fixed, &fixed_model, &samples, |u, v| {
+                (
+                    Q16::from_f32(u / FIG5.fs).unwrap(),
+                    fixed_model.velocity(v).unwrap(),
+                )
+            })
+            .expect("Q16 break-away detected");
+            let (rate, force, time) = (
+                b.rate.to_f32() as f64 * fs,
+                b.force.to_f32() as f64 * fs,
+                b.time.to_f32() as f64,
+            );
+            let t = a.time as f64;
+            let k_bound = (3.0 * LSB / 2.0 / t + LSB) * fs + 1e-5 * k;
+            let (dk, df, dt) = (
+                (rate - a.rate as f64).abs(),
+                (force - a.force as f64).abs(),
+                (time - t).abs(),
+            );
+            assert!(dk <= k_bound, "k = {k}: Q16 {rate} vs f32 {} N/s", a.rate);
+            assert!(df <= LSB * fs, "k = {k}: Q16 {force} vs f32 {} N", a.force);
+            assert!(dt <= LSB, "k = {k}: Q16 {time} vs f32 {t} s");
+            let (p, q) = (a.predicted.unwrap(), b.predicted.unwrap());
+            let dp = (q.f_ba.to_f32() as f64 * fs - p.f_ba as f64).abs() / p.f_ba as f64;
+            assert!(dp < 1e-3, "k = {k}: predicted F_ba {dp:.1e} relative");
+            println!(
+                "T = {period} s, k = {k} N/s, {:.0} samples: Q16 − f32: k {:.1e} (bound {:.1e}), \
+                 F_ba {df:.1e} N, t {dt:.1e} s, predicted F_ba {dp:.1e} relative",
+                t / period,
+                dk / k,
+                k_bound / k,
+            );
+            worst_k = worst_k.max(dk / k);
+            worst_f = worst_f.max(df / a.force as f64);
+            worst_t = worst_t.max(dt);
+            worst_p = worst_p.max(dp);
+        }
+    }
+    println!(
+        "Q16 vs f32 detector: worst k {worst_k:.1e}, F_ba {worst_f:.1e} relative, \
+         t {worst_t:.1e} s, predicted F_ba {worst_p:.1e} relative"
+    );
+}
+
+/// Beyond the admitted Q16 rise (52 000 samples) the sums would not fit:
+/// the Q16 detector gives no measurement where the `f32` one measures, and
+/// re-arms for the next rise. Non-finite samples are rejected without a
+/// change of state.
+#[test]
+fn detector_range_and_rejected_samples() {
+    use breakaway::{Scalar, Q16};
+    const T: f32 = 1e-4;
+    let float_model = Model::<f32>::new(FIG5).unwrap();
+    let fixed_model = Model::<Q16>::new(FIG5).unwrap();
+    let config = DetectorConfig {
+        period: T,
+        rest_speed: 1e-5,
+        break_away_speed: 2e-3,
+        min_rate: 0.1,
+    };
+    // A ramp of k [N/s] over n samples at rest, one sample moving at
+    // 4 mm/s, one at rest (re-arms).
+    let ramp = |k: f32, n: usize| -> Vec<(f32, f32)> {
+        (0..n)
+            .map(|i| (k * i as f32 * T, 0.0))
+            .chain([(k * n as f32 * T, 4e-3), (0.0, 0.0)])
+            .collect()
+    };
+    let to_fixed = |u: f32, v: f32| {
+        (
+            Q16::from_f32(u / FIG5.fs).unwrap(),
+            fixed_model.velocity(v).unwrap(),
+        )
+    };
+    let mut float =
+        BreakAwayDetector::<4>::new(config, &float_model, Variant::Consistent, 0.95).unwrap();
+    let mut fixed =
+        BreakAwayDetector::<4, Q16>::new(config, &fixed_model, Variant::Consistent, 0.95).unwrap();
+    // 60 000 samples (6 s at 10 kHz) to 6 N = 4·Fs.
+    let long = ramp(1.0, 60_000);
+    let m = first_break_away(&mut float, &float_model, &long, |u, v| (u, v)).unwrap();
+    assert!((m.rate - 1.0).abs() < 1e-4, "k {}", m.rate);
+    assert!(first_break_away(&mut fixed, &fixed_model, &long, to_fixed).is_none());
+    assert!(fixed.is_empty());
+    // 50 000 samples: within the range.
+    let short = ramp(1.0, 50_000);
+    let m = first_break_away(&mut fixed, &fixed_model, &short, to_fixed).unwrap();
+    assert!(
+        (m.rate.to_f32() * FIG5.fs - 1.0).abs() < 1e-4,
+        "k {:?}",
+        m.rate
+    );
+    assert!(
+        (m.time.to_f32() - 49_999.0 * T).abs() < 2e-5,
+        "t {:?}",
+        m.time
+    );
+
+    // Non-finite samples in the middle of a rise: rejected, state unchanged,
+    // the measurement the same as without them.
+    let mut clean = float.clone();
+    let want = first_break_away(&mut clean, &float_model, &ramp(2.0, 3000), |u, v| (u, v));
+    let mut got = None;
+    for (i, &(u, v)) in ramp(2.0, 3000).iter().enumerate() {
+        if i % 100 == 50 {
+            let before = float.clone();
+            assert_eq!(
+                float.update(&float_model, f32::NAN, v),
+                Err(SignalError::Command)
+            );
+            assert_eq!(
+                float.update(&float_model, u, f32::INFINITY),
+                Err(SignalError::Velocity)
+            );
+            assert_eq!(float, before);
+        }
+        if let Some(m) = float.update(&float_model, u, v).unwrap() {
+            got = Some(m);
+            break;
+        }
+    }
+    assert!(want.is_some());
+    assert_eq!(got, want);
+}
+
+/// A ramp below one Q16 step (2⁻¹⁶·Fs) per sample, outside the admitted
+/// range: the quantized command repeats values, which are skipped once the
+/// axis creeps, so that k comes out at one step per sample (the documented
+/// bias); a min_rate above 2⁻¹⁶·Fs/T rejects it.
+#[test]
+fn fixed_detector_below_one_step_per_sample() {
+    use breakaway::{Scalar, Q16};
+    const T: f64 = 1e-4;
+    let fixed_model = Model::<Q16>::new(FIG5).unwrap();
+    let judge = reference_model(&FIG5, 1.0, 1.0);
+    // 0.2 N/s·T = 0.87 steps of 2⁻¹⁶·1.5 N per sample.
+    let samples = break_away_samples(&judge, 0.2, T);
+    let step = FIG5.fs as f64 / 65536.0 / T; // N/s
+    let to_fixed = |u: f32, v: f32| {
+        (
+            Q16::from_f32(u / FIG5.fs).unwrap(),
+            fixed_model.velocity(v).unwrap(),
+        )
+    };
+    let config = DetectorConfig {
+        period: T as f32,
+        rest_speed: 1e-5,
+        break_away_speed: 2e-3,
+        min_rate: 0.1,
+    };
+    let mut fixed =
+        BreakAwayDetector::<1, Q16>::new(config, &fixed_model, Variant::Mean, 0.95).unwrap();
+    let m = first_break_away(&mut fixed, &fixed_model, &samples, to_fixed).unwrap();
+    let k = m.rate.to_f32() as f64 * FIG5.fs as f64;
+    assert!(
+        (k / step - 1.0).abs() < 0.02,
+        "k {k} N/s vs one step {step} N/s"
+    );
+    let config = DetectorConfig {
+        min_rate: (1.5 * step) as f32,
+        ..config
+    };
+    let mut fixed =
+        BreakAwayDetector::<1, Q16>::new(config, &fixed_model, Variant::Mean, 0.95).unwrap();
+    assert!(first_break_away(&mut fixed, &fixed_model, &samples, to_fixed).is_none());
+}
+
+/// Settings that Q16 cannot hold: a sample rate of 32 768 Hz or more, or a
+/// rest speed and break-away speed that round together.
+#[test]
+fn fixed_detector_settings() {
+    use breakaway::Q16;
+    let float_model = Model::<f32>::new(FIG5).unwrap();
+    let fixed_model = Model::<Q16>::new(FIG5).unwrap();
+    let config = DetectorConfig {
+        period: 1e-3,
+        rest_speed: 1e-5,
+        break_away_speed: 2e-3,
+        min_rate: 0.1,
+    };
+    let fast = DetectorConfig {
+        period: 1e-5,
+        ..config
+    };
+    let detector = |c| BreakAwayDetector::<1, Q16>::new(c, &fixed_model, Variant::Mean, 0.95);
+    assert!(BreakAwayDetector::<1>::new(fast, &float_model, Variant::Mean, 0.95).is_ok());
+    assert_eq!(detector(fast).unwrap_err(), ConfigError(Setting::Period));
+    // 1 mm/s = 1·V: both far beyond 32768·V.
+    let beyond = DetectorConfig {
+        rest_speed: 100.0,
+        break_away_speed: 200.0,
+        ..config
+    };
+    assert_eq!(
+        detector(beyond).unwrap_err(),
+        ConfigError(Setting::BreakAwaySpeed)
+    );
+    // Sub-resolution speeds round to 0 (1.5e-5·V = 1.5e-8 m/s).
+    let tiny = DetectorConfig {
+        rest_speed: 1e-9,
+        ..config
+    };
+    assert_eq!(detector(tiny).unwrap_err(), ConfigError(Setting::RestSpeed));
+    assert!(detector(config).is_ok());
 }
 
 /// The same feedforward in Q16.16 (forces in Fs, velocities in V, 10 nm

@@ -2,32 +2,82 @@
 //!
 //! While the axis is at rest (|v| ≤ rest_speed, presliding creep included)
 //! under a force command whose magnitude rises, the detector fits the force
-//! rate k by least squares to |u|(t) since the start of the rise (a running
-//! Welford-type regression, O(1) per sample). Break-away is the first sample
-//! at which |v| exceeds break_away_speed: travel has left presliding and the
-//! velocity rises sharply. The measured pair (k, F_ba = |u| there) is stored
-//! with the predictor's F_ba and t_ba for that k, in a fixed-capacity buffer
-//! (the oldest is dropped when full) from which the predictor's parameters
-//! can be refitted on the host (`breakaway-lab`'s fit).
+//! rate k by least squares to |u|(t) since the start of the rise (O(1) per
+//! sample, see below). Break-away is the first sample at which |v| exceeds
+//! break_away_speed: travel has left presliding and the velocity rises
+//! sharply. The measured pair (k, F_ba = |u| there) is stored with the
+//! predictor's F_ba and t_ba for that k, in a fixed-capacity buffer (the
+//! oldest is dropped when full) from which the predictor's parameters can be
+//! refitted on the host (`breakaway-lab`'s fit).
 //!
 //! The detector re-arms once |v| falls back to rest_speed. A rise starts
 //! afresh at every sample at rest where |u| does not grow or u changes sign.
 //! The measured F_ba is late by the time the velocity takes from v_b to
 //! break_away_speed; choose break_away_speed near the predicted v_b
 //! ([`BreakAway::v_b`]), above the velocity noise.
+//!
+//! # The regression
+//!
+//! The rise's samples i = 0 … n − 1 (one per rising sample, period T [s])
+//! enter relative to its first one, d_i = |u_i| − |u_0| [N]. Two running
+//! sums, S = Σ d_i [N] and P = Σ_{m<n−1} S_m [N] (the sum of the partial
+//! sums S_m = Σ_{i≤m} d_i), need one addition each per sample and give the
+//! least-squares slope
+//!
+//! ```text
+//! Σ (2i − (n − 1))·d_i = (n − 1)·S − 2·P
+//! k = 6·((n − 1)·S − 2·P) / (n·(n² − 1)·T)      [N/s]
+//! ```
+//!
+//! with no sum of t² or t·u that would outgrow a fixed-point type. The sums
+//! are kept in the number type's [`Accumulate::Sum`]: `f32` for `f32`; for
+//! [`Q16`] the raw values in `i64`, exact, so that k carries only the
+//! rounding of the one final division.
+//!
+//! # Q16
+//!
+//! With a `Model<Q16>` the signals are in the model's units (force in Fs,
+//! velocity in V, time in seconds). Admitted, besides the ranges of the
+//! type (forces within ±32768·Fs):
+//!
+//! - a sample rate 1/T below 32768 Hz (T > 30.5 µs): an error
+//!   ([`Setting::Period`]) otherwise;
+//! - rises of up to 52 000 samples, n·(n² − 1)·2¹⁶ < 2⁶³ (52 s at 1 kHz,
+//!   5.2 s at 10 kHz), k below 32768·Fs/s and t below 32768 s: beyond, the
+//!   sums or the result do not fit and the break-away gives **no
+//!   measurement** (never a saturated one);
+//! - a rise k·T of at least 2⁻¹⁶·Fs per sample (k ≥ 0.066·Fs/s at 1 kHz,
+//!   0.66·Fs/s at 10 kHz). A slower command, quantized to 2⁻¹⁶·Fs, repeats
+//!   values: at rest each repeat restarts the rise, and once the axis creeps
+//!   above rest_speed the repeats are skipped like any sample that does not
+//!   rise, so that k comes out at 2⁻¹⁶·Fs/T, too high. This is not
+//!   detected: a min_rate above 2⁻¹⁶·Fs/T rejects such rises.
+//!
+//! Resolution: F_ba and t are rounded to 2⁻¹⁶ (Fs, s); k to 2⁻¹⁶·Fs/s, plus
+//! the slope of the command's own quantization, at most 3·2⁻¹⁷·Fs/t (2.3e-5
+//! relative for k = 1·Fs/s over t = 1 s). A predicted break-away whose
+//! fixed-point evaluation saturated is reported as `None`.
+
+// Arithmetic here is on the generic number type `T`, whose operators are
+// total by the `Scalar` contract (IEEE `f32`; saturating `Q16`): no panic, no
+// wrap. Integer arithmetic is written with explicit checks.
+#![allow(clippy::arithmetic_side_effects)]
 
 use heapless::Deque;
 
 use crate::breakaway::{BreakAway, BreakAwayPredictor, Variant};
+use crate::fixed_point::Q16;
 use crate::model::Model;
+use crate::scalar::Scalar;
 
-use super::{non_negative, positive, ConfigError, Setting, SignalError};
+use super::{non_negative, positive, setting_in, ConfigError, Setting, SignalError};
 
-/// Settings of a [`BreakAwayDetector`].
+/// Settings of a [`BreakAwayDetector`], in SI units whatever the number
+/// type of the model (converted once with [`Model::units`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct DetectorConfig {
-    /// Sample period T [s], > 0.
+    /// Sample period T [s], > 0 (for [`Q16`]: > 1/32768 s).
     pub period: f32,
     /// Speed [m/s], ≥ 0, up to which the axis counts as at rest.
     pub rest_speed: f32,
@@ -37,171 +87,351 @@ pub struct DetectorConfig {
     pub min_rate: f32,
 }
 
-/// One measured break-away.
+/// One measured break-away, in the model's units (SI for `f32`; force in
+/// Fs and velocity in V for [`Q16`]; time in seconds for both).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct Measurement {
+pub struct Measurement<T = f32> {
     /// Estimated force rate k [N/s] of the rise.
-    pub rate: f32,
+    pub rate: T,
     /// Measured break-away force |u| [N].
-    pub force: f32,
-    /// Time [s] from the start of the rise to the break-away.
-    pub time: f32,
-    /// The predictor's break-away for this k (`None` if it failed).
-    pub predicted: Option<BreakAway<f32>>,
+    pub force: T,
+    /// Time [s] from the start of the rise to its last rising sample before
+    /// the break-away.
+    pub time: T,
+    /// The predictor's break-away for this k (`None` if it failed or
+    /// saturated).
+    pub predicted: Option<BreakAway<T>>,
 }
 
+/// The running sums of a [`BreakAwayDetector`]'s regression in a number
+/// type: a wider or exact sum type and the few operations on it. Every
+/// operation reports what does not fit as `None` (a non-finite `f32`, an
+/// `i64` overflow), never a saturated value.
+pub trait Accumulate: Scalar {
+    /// A sum of many samples: `f32` for `f32`; for [`Q16`] the raw value
+    /// (value·2¹⁶) in `i64`, exact.
+    type Sum: Copy + core::fmt::Debug + PartialEq;
+    /// The sum 0.
+    const SUM_ZERO: Self::Sum;
+    /// A number as a sum (exact).
+    fn widen(self) -> Self::Sum;
+    /// The integer `n` as a sum; `None` when it does not fit.
+    fn count(n: u64) -> Option<Self::Sum>;
+    /// a + b; `None` when it does not fit.
+    fn sum_add(a: Self::Sum, b: Self::Sum) -> Option<Self::Sum>;
+    /// a − b; `None` when it does not fit.
+    fn sum_sub(a: Self::Sum, b: Self::Sum) -> Option<Self::Sum>;
+    /// a·m; `None` when it does not fit.
+    fn sum_mul(a: Self::Sum, m: u64) -> Option<Self::Sum>;
+    /// num/den·scale in the number type, rounded; `None` when den ≤ 0 or
+    /// the result does not fit.
+    fn ratio(num: Self::Sum, den: Self::Sum, scale: Self) -> Option<Self>;
+}
+
+/// `Some(x)` when `x` is finite.
+fn finite(x: f32) -> Option<f32> {
+    x.is_finite().then_some(x)
+}
+
+impl Accumulate for f32 {
+    type Sum = f32;
+    const SUM_ZERO: f32 = 0.0;
+    fn widen(self) -> f32 {
+        self
+    }
+    fn count(n: u64) -> Option<f32> {
+        Some(n as f32)
+    }
+    fn sum_add(a: f32, b: f32) -> Option<f32> {
+        finite(a + b)
+    }
+    fn sum_sub(a: f32, b: f32) -> Option<f32> {
+        finite(a - b)
+    }
+    fn sum_mul(a: f32, m: u64) -> Option<f32> {
+        finite(a * m as f32)
+    }
+    fn ratio(num: f32, den: f32, scale: f32) -> Option<f32> {
+        if den > 0.0 {
+            finite(num / den * scale)
+        } else {
+            None
+        }
+    }
+}
+
+/// Sums of raw Q16.16 values in `i64`: exact additions, checked. The one
+/// division, at a break-away, is done in `i128` (|num·scale| < 2⁹⁴) and
+/// rounded to nearest.
+impl<const K: usize> Accumulate for Q16<K> {
+    type Sum = i64;
+    const SUM_ZERO: i64 = 0;
+    fn widen(self) -> i64 {
+        i64::from(self.to_bits())
+    }
+    fn count(n: u64) -> Option<i64> {
+        i64::try_from(n).ok()?.checked_mul(1 << 16)
+    }
+    fn sum_add(a: i64, b: i64) -> Option<i64> {
+        a.checked_add(b)
+    }
+    fn sum_sub(a: i64, b: i64) -> Option<i64> {
+        a.checked_sub(b)
+    }
+    fn sum_mul(a: i64, m: u64) -> Option<i64> {
+        a.checked_mul(i64::try_from(m).ok()?)
+    }
+    fn ratio(num: i64, den: i64, scale: Self) -> Option<Self> {
+        if den <= 0 {
+            return None;
+        }
+        // Raw result num·scale_raw/den_raw: the 2¹⁶ of num and den cancel.
+        let product = i128::from(num).checked_mul(i128::from(scale.to_bits()))?;
+        let den = i128::from(den);
+        let half = den / 2;
+        let rounded = if product >= 0 {
+            product.checked_add(half)?.checked_div(den)?
+        } else {
+            product.checked_sub(half)?.checked_div(den)?
+        };
+        i32::try_from(rounded).ok().map(Self::from_bits)
+    }
+}
+
+/// The running least-squares fit of one rise (module documentation).
 #[derive(Clone, Copy, Debug, PartialEq)]
-struct Regression {
-    n: u32,
-    mean_t: f32,
-    mean_u: f32,
-    c_tt: f32,
-    c_tu: f32,
-}
-
-impl Regression {
-    const EMPTY: Self = Self {
-        n: 0,
-        mean_t: 0.0,
-        mean_u: 0.0,
-        c_tt: 0.0,
-        c_tu: 0.0,
-    };
-
-    fn add(&mut self, t: f32, u: f32) {
-        self.n = self.n.saturating_add(1);
-        let n = self.n as f32;
-        let dt = t - self.mean_t;
-        self.mean_t += dt / n;
-        let du = u - self.mean_u;
-        self.mean_u += du / n;
-        self.c_tt += dt * (t - self.mean_t);
-        self.c_tu += dt * (u - self.mean_u);
-    }
-
-    fn slope(&self) -> Option<f32> {
-        let k = self.c_tu / self.c_tt;
-        (self.n >= 3 && k.is_finite()).then_some(k)
-    }
-}
-
-/// Online break-away detector keeping the last `N` measurements.
-#[derive(Clone, Debug)]
-pub struct BreakAwayDetector<const N: usize> {
-    config: DetectorConfig,
-    predictor: BreakAwayPredictor<f32>,
-    variant: Variant,
-    armed: bool,
-    /// Samples since the start of the rise.
+struct Regression<T: Accumulate> {
+    /// |u_0| [N], the first sample of the rise.
+    start: T,
+    /// The index n − 1 of the last sample: rising samples since the start.
     ticks: u32,
-    fit: Regression,
-    last_command: f32,
-    measurements: Deque<Measurement, N>,
+    /// (S, P) [N]; `None` once a sum has overflowed.
+    sums: Option<(T::Sum, T::Sum)>,
 }
 
-impl<const N: usize> BreakAwayDetector<N> {
+impl<T: Accumulate> Regression<T> {
+    /// A rise starting at |u| = `magnitude` [N].
+    fn start(magnitude: T) -> Self {
+        Self {
+            start: magnitude,
+            ticks: 0,
+            sums: Some((T::SUM_ZERO, T::SUM_ZERO)),
+        }
+    }
+
+    /// The next rising sample |u| = `magnitude` [N].
+    fn add(&mut self, magnitude: T) {
+        let Some(ticks) = self.ticks.checked_add(1) else {
+            self.sums = None;
+            return;
+        };
+        self.ticks = ticks;
+        // Both in [0, MAX]: the difference fits.
+        let d = (magnitude - self.start).widen();
+        self.sums = self.sums.and_then(|(s, p)| {
+            let p = T::sum_add(p, s)?;
+            Some((T::sum_add(s, d)?, p))
+        });
+    }
+
+    /// The slope k [N/s] for the sample rate `rate` = 1/T [1/s]; `None`
+    /// below 3 samples or when it does not fit.
+    fn slope(&self, rate: T) -> Option<T> {
+        let (s, p) = self.sums?;
+        if self.ticks < 2 {
+            return None;
+        }
+        let last = u64::from(self.ticks);
+        let n = last.checked_add(1)?;
+        let numerator = T::sum_sub(T::sum_mul(s, last)?, T::sum_add(p, p)?)?;
+        let denominator = T::sum_mul(T::count(n.checked_mul(n)?.checked_sub(1)?)?, n)?;
+        T::ratio(T::sum_mul(numerator, 6)?, denominator, rate)
+    }
+
+    /// The time [s] from the start to the last sample for the sample rate
+    /// `rate` = 1/T [1/s].
+    fn time(&self, rate: T) -> Option<T> {
+        T::ratio(T::count(u64::from(self.ticks))?, rate.widen(), T::ONE)
+    }
+}
+
+/// `true` unless `x` is NaN or at the largest magnitude (where `f32`
+/// overflow and fixed-point saturation land).
+fn within_range<T: Scalar>(x: T) -> bool {
+    x < T::MAX && x > -T::MAX
+}
+
+/// Online break-away detector keeping the last `N` measurements, in the
+/// number type `T` (`f32`, or [`Q16`] with forces in units of Fs and
+/// velocities in units of V; the admitted range of `Q16` is in the module
+/// documentation).
+#[derive(Clone, Debug, PartialEq)]
+pub struct BreakAwayDetector<const N: usize, T: Accumulate = f32> {
+    predictor: BreakAwayPredictor<T>,
+    variant: Variant,
+    /// 1/T [1/s].
+    sample_rate: T,
+    /// [m/s] (model units).
+    rest_speed: T,
+    /// [m/s] (model units).
+    break_away_speed: T,
+    /// [N/s] (model units).
+    min_rate: T,
+    armed: bool,
+    fit: Regression<T>,
+    /// The last command u [N] (model units).
+    last_command: T,
+    measurements: Deque<Measurement<T>, N>,
+}
+
+impl<const N: usize, T: Accumulate> BreakAwayDetector<N, T> {
     /// A detector predicting with `variant` at the boundary `w_b` for
-    /// `model`.
+    /// `model`. The settings stay in SI units and are converted here once
+    /// to the model's [`Units`](crate::Units) (force in Fs and velocity in V
+    /// for [`Q16`]; a setting beyond the type's range is taken as its
+    /// largest value).
+    ///
+    /// ```
+    /// use breakaway::compensation::{BreakAwayDetector, DetectorConfig};
+    /// use breakaway::{Model, Params, Scalar, Variant, Q16};
+    /// let params = Params { fc: 1.0, fs: 1.5, v_stribeck: 1e-3, delta: 1.0,
+    ///                       sigma: 0.0, z_max: 1e-5, epsilon: 0.0 };
+    /// let model = Model::<Q16>::new(params)?;
+    /// let config = DetectorConfig { period: 1e-3, rest_speed: 1e-5,
+    ///                               break_away_speed: 1e-3, min_rate: 0.1 };
+    /// let mut detector =
+    ///     BreakAwayDetector::<4, Q16>::new(config, &model, Variant::Consistent, 0.95).unwrap();
+    /// // A ramp of 2 N/s at rest, then the axis moves at 2 mm/s.
+    /// let (rest, moving) = (model.velocity(0.0).unwrap(), model.velocity(2e-3).unwrap());
+    /// for i in 0..=700 {
+    ///     let u = Q16::from_f32(2.0 * i as f32 * 1e-3 / params.fs).unwrap(); // in Fs
+    ///     detector.update(&model, u, rest).unwrap();
+    /// }
+    /// let u = Q16::from_f32(1.402 / params.fs).unwrap();
+    /// let m = detector.update(&model, u, moving).unwrap().unwrap();
+    /// assert!((m.rate.to_f32() * params.fs - 2.0).abs() < 1e-4); // N/s
+    /// assert!((m.time.to_f32() - 0.7).abs() < 1e-4); // s
+    /// # Ok::<(), breakaway::ParamError>(())
+    /// ```
     pub fn new(
         config: DetectorConfig,
-        model: &Model<f32>,
+        model: &Model<T>,
         variant: Variant,
         w_b: f32,
     ) -> Result<Self, ConfigError> {
-        positive(config.period, Setting::Period)?;
+        let period = positive(config.period, Setting::Period)?;
         let rest = non_negative(config.rest_speed, Setting::RestSpeed)?;
         let fast = positive(config.break_away_speed, Setting::BreakAwaySpeed)?;
         if fast <= rest {
             return Err(ConfigError(Setting::BreakAwaySpeed));
         }
-        positive(config.min_rate, Setting::MinRate)?;
+        let min_rate = positive(config.min_rate, Setting::MinRate)?;
         let predictor =
             BreakAwayPredictor::new(model, w_b).map_err(|_| ConfigError(Setting::Boundary))?;
+        let units = model.units();
+        // The sample rate scales every k: it must be represented, not
+        // saturated.
+        let sample_rate = T::from_f32(1.0 / period)
+            .filter(|r| *r > T::ZERO && within_range(*r))
+            .ok_or(ConfigError(Setting::Period))?;
+        let rest_speed = setting_in(rest, units.velocity, Setting::RestSpeed)?;
+        let break_away_speed = setting_in(fast, units.velocity, Setting::BreakAwaySpeed)?;
+        if break_away_speed <= rest_speed {
+            return Err(ConfigError(Setting::BreakAwaySpeed));
+        }
         Ok(Self {
-            config,
             predictor,
             variant,
+            sample_rate,
+            rest_speed,
+            break_away_speed,
+            min_rate: setting_in(min_rate, units.force, Setting::MinRate)?,
             armed: false,
-            ticks: 0,
-            fit: Regression::EMPTY,
-            last_command: 0.0,
+            fit: Regression::start(T::ZERO),
+            last_command: T::ZERO,
             measurements: Deque::new(),
         })
     }
 
     /// Feeds one sample: the force `command` u [N] applied now and the
-    /// measured `velocity` [m/s]. Returns the measurement when this sample
-    /// is a break-away. A non-finite input is rejected and leaves the state
-    /// unchanged.
+    /// measured `velocity` [m/s] (model units for fixed point). Returns the
+    /// measurement when this sample is a break-away whose rate, force and
+    /// time are within range. A non-finite input is rejected and leaves the
+    /// state unchanged.
     pub fn update(
         &mut self,
-        model: &Model<f32>,
-        command: f32,
-        velocity: f32,
-    ) -> Result<Option<Measurement>, SignalError> {
+        model: &Model<T>,
+        command: T,
+        velocity: T,
+    ) -> Result<Option<Measurement<T>>, SignalError> {
         if !command.is_finite() {
             return Err(SignalError::Command);
         }
         if !velocity.is_finite() {
             return Err(SignalError::Velocity);
         }
-        let speed = libm::fabsf(velocity);
-        let magnitude = libm::fabsf(command);
+        let speed = velocity.abs();
+        let magnitude = command.abs();
         let last = self.last_command;
         self.last_command = command;
         if !self.armed {
-            if speed <= self.config.rest_speed {
+            if speed <= self.rest_speed {
                 self.armed = true;
-                self.restart(magnitude);
+                self.fit = Regression::start(magnitude);
             }
             return Ok(None);
         }
-        if speed > self.config.break_away_speed {
+        if speed > self.break_away_speed {
             self.armed = false;
-            let Some(rate) = self.fit.slope() else {
-                return Ok(None);
-            };
-            if rate < self.config.min_rate {
-                return Ok(None);
-            }
-            let measurement = Measurement {
-                rate,
-                force: magnitude,
-                time: self.ticks as f32 * self.config.period,
-                predicted: self.predictor.predict(model, self.variant, rate).ok(),
-            };
-            if self.measurements.is_full() {
-                self.measurements.pop_front();
-            }
-            // Cannot fail: a slot is free.
-            let _ = self.measurements.push_back(measurement);
-            return Ok(Some(measurement));
+            return Ok(self.measure(model, magnitude));
         }
-        let rising = magnitude > libm::fabsf(last) && (command >= 0.0) == (last >= 0.0);
+        let rising = magnitude > last.abs() && (command >= T::ZERO) == (last >= T::ZERO);
         if rising {
-            self.ticks = self.ticks.saturating_add(1);
-            self.fit
-                .add(self.ticks as f32 * self.config.period, magnitude);
-        } else if speed <= self.config.rest_speed {
-            self.restart(magnitude);
+            self.fit.add(magnitude);
+        } else if speed <= self.rest_speed {
+            self.fit = Regression::start(magnitude);
         }
         Ok(None)
     }
 
-    fn restart(&mut self, magnitude: f32) {
-        self.ticks = 0;
-        self.fit = Regression::EMPTY;
-        self.fit.add(0.0, magnitude);
+    /// The measurement of a break-away at |u| = `force` [N], stored; `None`
+    /// when the rise is too short, slower than min_rate or out of range.
+    fn measure(&mut self, model: &Model<T>, force: T) -> Option<Measurement<T>> {
+        let rate = self.fit.slope(self.sample_rate)?;
+        if rate < self.min_rate {
+            return None;
+        }
+        let time = self.fit.time(self.sample_rate)?;
+        if !(within_range(rate) && within_range(force) && within_range(time)) {
+            return None;
+        }
+        let predicted = self
+            .predictor
+            .predict(model, self.variant, rate)
+            .ok()
+            .filter(|p| within_range(p.v_b) && within_range(p.f_ba) && within_range(p.t_ba));
+        let measurement = Measurement {
+            rate,
+            force,
+            time,
+            predicted,
+        };
+        if self.measurements.is_full() {
+            self.measurements.pop_front();
+        }
+        // Cannot fail: a slot is free.
+        let _ = self.measurements.push_back(measurement);
+        Some(measurement)
     }
 
     /// The stored measurements, oldest first.
-    pub fn measurements(&self) -> impl Iterator<Item = &Measurement> {
+    pub fn measurements(&self) -> impl Iterator<Item = &Measurement<T>> {
         self.measurements.iter()
     }
 
-    /// The stored (k [N/s], F_ba [N]) pairs, oldest first.
-    pub fn pairs(&self) -> impl Iterator<Item = (f32, f32)> + '_ {
+    /// The stored (k [N/s], F_ba [N]) pairs (model units), oldest first.
+    pub fn pairs(&self) -> impl Iterator<Item = (T, T)> + '_ {
         self.measurements.iter().map(|m| (m.rate, m.force))
     }
 

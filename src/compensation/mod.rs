@@ -24,11 +24,13 @@
 //! once at construction ([`ConfigError`] names the setting) and a non-finite
 //! sample is rejected without changing any state.
 //!
-//! [`Feedforward`], [`DisturbanceObserver`] and [`LevelAdaptation`] (and
-//! `hal::PwmForce`) are generic over the number type: the same code runs in
-//! `f32` and in [`Q16`](crate::Q16) on an MCU without an FPU. The settings
-//! stay in SI units; `with_units(…, model.units())` converts them once, and
-//! the signals are then in the model's units (force in Fs, velocity in V):
+//! [`Feedforward`], [`DisturbanceObserver`], [`LevelAdaptation`],
+//! [`BreakAwayDetector`] (and `hal::PwmForce`) are generic over the number
+//! type: the same code runs in `f32` and in [`Q16`](crate::Q16) on an MCU
+//! without an FPU. The settings stay in SI units; `with_units(…,
+//! model.units())` (for the detector, `new` from the model) converts them
+//! once, and the signals are then in the model's units (force in Fs,
+//! velocity in V):
 //!
 //! ```
 //! use breakaway::compensation::{DisturbanceObserver, Feedforward, FeedforwardConfig,
@@ -57,7 +59,7 @@
 //! # Ok::<(), breakaway::ParamError>(())
 //! ```
 //!
-//! [`BreakAwayDetector`] and [`SplitLevelAdaptation`] are `f32` only.
+//! [`SplitLevelAdaptation`] is `f32` only.
 
 // Arithmetic here is on the generic number type `T`, whose operators are
 // total by the `Scalar` contract (IEEE `f32`; saturating `Q16`): no panic, no
@@ -72,7 +74,7 @@ mod observer;
 pub use adaptation::{
     AdaptationConfig, LevelAdaptation, SplitLevelAdaptation, SPLIT_REGULARISATION,
 };
-pub use detection::{BreakAwayDetector, DetectorConfig, Measurement};
+pub use detection::{Accumulate, BreakAwayDetector, DetectorConfig, Measurement};
 pub use feedforward::{Feedforward, FeedforwardConfig};
 pub use observer::{DisturbanceObserver, ObserverConfig};
 
