@@ -125,7 +125,8 @@ fn main() -> ! {
             period: 1e-3,
             rest_speed: 1e-5,
             break_away_speed: 1e-3,
-            min_rate: 0.01,
+            // ≥ 2⁻¹⁵·Fs/T = 0.046 N/s, the Q16 bound at 1 kHz.
+            min_rate: 0.1,
         };
         // A ramp at rest, then a break-away: the measurement path runs.
         let ramp = [(0.0, 0.0), (0.1, 0.0), (0.2, 0.0), (0.3, 0.0), (0.4, 2e-3)];

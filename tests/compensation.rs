@@ -616,34 +616,68 @@ fn first_break_away<T: breakaway::compensation::Accumulate, const N: usize>(
     })
 }
 
-/// The Q16.16 detector (force in Fs, velocity in V) and the `f32` one fed
-/// the same reference break-aways, at 10 kHz and at 1 kHz with rises of up
-/// to 7.3 s (7 300 samples at 1 kHz, 29 000 at 10 kHz): the same k, F_ba and
-/// t within the fixed-point resolution, and the same predicted F_ba.
+/// The differences of a Q16.16 measurement `b` (force in Fs) from the
+/// `f32` one `a` of a ramp of `k` [N/s], asserted within the fixed-point
+/// resolution: (k relative, F_ba [N], t [s], predicted F_ba relative) and
+/// the bound on k relative.
 ///
 /// Bounds from the resolution 2⁻¹⁶ (Fs, s): the command is rounded to
 /// 2⁻¹⁷·Fs, which moves F_ba by as much and the least-squares k by at most
 /// 3·2⁻¹⁷·Fs/t; k and t are rounded once more to 2⁻¹⁷; the `f32` sums carry
 /// ~1e-5 relative on k. The predictor in Q16 is within 1e-3 of F_ba
 /// (`tests/fixed_point.rs`).
+fn assert_q16_matches_f32(
+    a: &breakaway::compensation::Measurement<f32>,
+    b: &breakaway::compensation::Measurement<breakaway::Q16>,
+    k: f64,
+) -> [f64; 5] {
+    use breakaway::Scalar;
+    const LSB: f64 = 1.0 / 65536.0;
+    let fs = FIG5.fs as f64;
+    let (rate, force, time) = (
+        b.rate.to_f32() as f64 * fs,
+        b.force.to_f32() as f64 * fs,
+        b.time.to_f32() as f64,
+    );
+    let t = a.time as f64;
+    let k_bound = (3.0 * LSB / 2.0 / t + LSB) * fs + 1e-5 * k;
+    let (dk, df, dt) = (
+        (rate - a.rate as f64).abs(),
+        (force - a.force as f64).abs(),
+        (time - t).abs(),
+    );
+    assert!(dk <= k_bound, "k = {k}: Q16 {rate} vs f32 {} N/s", a.rate);
+    assert!(df <= LSB * fs, "k = {k}: Q16 {force} vs f32 {} N", a.force);
+    assert!(dt <= LSB, "k = {k}: Q16 {time} vs f32 {t} s");
+    let (p, q) = (a.predicted.unwrap(), b.predicted.unwrap());
+    let dp = (q.f_ba.to_f32() as f64 * fs - p.f_ba as f64).abs() / p.f_ba as f64;
+    assert!(dp < 1e-3, "k = {k}: predicted F_ba {dp:.1e} relative");
+    [dk / k, df, dt, dp, k_bound / k]
+}
+
+/// The Q16.16 detector (force in Fs, velocity in V) and the `f32` one fed
+/// the same reference break-aways, at 10 kHz and at 1 kHz with rises of up
+/// to 7.3 s (7 300 samples at 1 kHz, 29 000 at 10 kHz): the same k, F_ba and
+/// t within the fixed-point resolution, and the same predicted F_ba
+/// ([`assert_q16_matches_f32`]).
 #[test]
 fn fixed_detector_matches_the_f32_detector_on_the_reference_dynamics() {
     use breakaway::{Scalar, Q16};
-    const LSB: f64 = 1.0 / 65536.0;
-    let fs = FIG5.fs as f64;
     let float_model = Model::<f32>::new(FIG5).unwrap();
     let fixed_model = Model::<Q16>::new(FIG5).unwrap();
     let judge = reference_model(&FIG5, 1.0, 1.0);
     let (mut worst_k, mut worst_f, mut worst_t, mut worst_p) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
-    for (period, rates) in [
-        (1e-4, &[0.5, 2.0, 5.0, 10.0][..]),
-        (1e-3, &[0.2, 0.5, 2.0, 10.0][..]),
+    // min_rate at least two Q16 command steps per sample, 2⁻¹⁵·Fs/T
+    // (0.46 N/s at 10 kHz).
+    for (period, min_rate, rates) in [
+        (1e-4, 0.46, &[0.5, 2.0, 5.0, 10.0][..]),
+        (1e-3, 0.1, &[0.2, 0.5, 2.0, 10.0][..]),
     ] {
         let config = DetectorConfig {
             period: period as f32,
             rest_speed: 1e-5,
             break_away_speed: 2e-3,
-            min_rate: 0.1,
+            min_rate,
         };
         let mut float =
             BreakAwayDetector::<2>::new(config, &float_model, Variant::Consistent, 0.95).unwrap();
@@ -660,32 +694,13 @@ fn fixed_detector_matches_the_f32_detector_on_the_reference_dynamics() {
                 )
             })
             .expect("Q16 break-away detected");
-            let (rate, force, time) = (
-                b.rate.to_f32() as f64 * fs,
-                b.force.to_f32() as f64 * fs,
-                b.time.to_f32() as f64,
-            );
-            let t = a.time as f64;
-            let k_bound = (3.0 * LSB / 2.0 / t + LSB) * fs + 1e-5 * k;
-            let (dk, df, dt) = (
-                (rate - a.rate as f64).abs(),
-                (force - a.force as f64).abs(),
-                (time - t).abs(),
-            );
-            assert!(dk <= k_bound, "k = {k}: Q16 {rate} vs f32 {} N/s", a.rate);
-            assert!(df <= LSB * fs, "k = {k}: Q16 {force} vs f32 {} N", a.force);
-            assert!(dt <= LSB, "k = {k}: Q16 {time} vs f32 {t} s");
-            let (p, q) = (a.predicted.unwrap(), b.predicted.unwrap());
-            let dp = (q.f_ba.to_f32() as f64 * fs - p.f_ba as f64).abs() / p.f_ba as f64;
-            assert!(dp < 1e-3, "k = {k}: predicted F_ba {dp:.1e} relative");
+            let [dk, df, dt, dp, k_bound] = assert_q16_matches_f32(&a, &b, k);
             println!(
-                "T = {period} s, k = {k} N/s, {:.0} samples: Q16 − f32: k {:.1e} (bound {:.1e}), \
-                 F_ba {df:.1e} N, t {dt:.1e} s, predicted F_ba {dp:.1e} relative",
-                t / period,
-                dk / k,
-                k_bound / k,
+                "T = {period} s, k = {k} N/s, {:.0} samples: Q16 − f32: k {dk:.1e} (bound \
+                 {k_bound:.1e}), F_ba {df:.1e} N, t {dt:.1e} s, predicted F_ba {dp:.1e} relative",
+                a.time as f64 / period,
             );
-            worst_k = worst_k.max(dk / k);
+            worst_k = worst_k.max(dk);
             worst_f = worst_f.max(df / a.force as f64);
             worst_t = worst_t.max(dt);
             worst_p = worst_p.max(dp);
@@ -711,7 +726,7 @@ fn detector_range_and_rejected_samples() {
         period: T,
         rest_speed: 1e-5,
         break_away_speed: 2e-3,
-        min_rate: 0.1,
+        min_rate: 0.5, // ≥ 2⁻¹⁵·Fs/T = 0.46 N/s
     };
     // A ramp of k [N/s] over n samples at rest, one sample moving at
     // 4 mm/s, one at rest (re-arms).
@@ -778,46 +793,105 @@ fn detector_range_and_rejected_samples() {
     assert_eq!(got, want);
 }
 
-/// A ramp below one Q16 step (2⁻¹⁶·Fs) per sample, outside the admitted
-/// range: the quantized command repeats values, which are skipped once the
-/// axis creeps, so that k comes out at one step per sample (the documented
-/// bias); a min_rate above 2⁻¹⁶·Fs/T rejects it.
+/// Q16 admits rises of at least two command steps (2⁻¹⁶·Fs) per sample: a
+/// min_rate below 2⁻¹⁵·Fs/T is a setting error, and a slower ramp gives no
+/// measurement where it came out at one step per sample before (0.2 N/s at
+/// 10 kHz, 0.87 steps: 15 % too high; a command rounded twice at 1.2
+/// steps: 25 % too high). A ramp just inside, 2.05 steps per sample,
+/// matches the `f32` detector within the fixed-point resolution
+/// ([`assert_q16_matches_f32`]), the command rounded once or twice.
 #[test]
-fn fixed_detector_below_one_step_per_sample() {
+fn fixed_detector_admits_two_command_steps_per_sample() {
     use breakaway::{Scalar, Q16};
-    const T: f64 = 1e-4;
+    let fs = FIG5.fs as f64;
+    let step = fs / 65536.0; // N
+    let float_model = Model::<f32>::new(FIG5).unwrap();
     let fixed_model = Model::<Q16>::new(FIG5).unwrap();
     let judge = reference_model(&FIG5, 1.0, 1.0);
-    // 0.2 N/s·T = 0.87 steps of 2⁻¹⁶·1.5 N per sample.
-    let samples = break_away_samples(&judge, 0.2, T);
-    let step = FIG5.fs as f64 / 65536.0 / T; // N/s
-    let to_fixed = |u: f32, v: f32| {
-        (
-            Q16::from_f32(u / FIG5.fs).unwrap(),
-            fixed_model.velocity(v).unwrap(),
-        )
+    let velocity = |v: f32| fixed_model.velocity(v).unwrap();
+    // The command in Fs, rounded once (from the f32 command in N), or twice:
+    // first to 2⁻¹⁶ N, as a controller computing in Q16 newtons would.
+    let once = |u: f32, v: f32| (Q16::from_f32(u / FIG5.fs).unwrap(), velocity(v));
+    let twice = |u: f32, v: f32| {
+        let newtons = (u as f64 * 65536.0).round() / 65536.0;
+        (Q16::from_f32((newtons / fs) as f32).unwrap(), velocity(v))
     };
-    let config = DetectorConfig {
-        period: T as f32,
-        rest_speed: 1e-5,
-        break_away_speed: 2e-3,
-        min_rate: 0.1,
-    };
-    let mut fixed =
-        BreakAwayDetector::<1, Q16>::new(config, &fixed_model, Variant::Mean, 0.95).unwrap();
-    let m = first_break_away(&mut fixed, &fixed_model, &samples, to_fixed).unwrap();
-    let k = m.rate.to_f32() as f64 * FIG5.fs as f64;
-    assert!(
-        (k / step - 1.0).abs() < 0.02,
-        "k {k} N/s vs one step {step} N/s"
-    );
-    let config = DetectorConfig {
-        min_rate: (1.5 * step) as f32,
-        ..config
-    };
-    let mut fixed =
-        BreakAwayDetector::<1, Q16>::new(config, &fixed_model, Variant::Mean, 0.95).unwrap();
-    assert!(first_break_away(&mut fixed, &fixed_model, &samples, to_fixed).is_none());
+    type Convert<'a> = &'a dyn Fn(f32, f32) -> (Q16, Q16);
+    let roundings: [(&str, Convert); 2] = [("once", &once), ("twice", &twice)];
+    for period in [1e-4, 1e-3] {
+        let bound = 2.0 * step / period; // N/s
+        let config = |min_rate: f64| DetectorConfig {
+            period: period as f32,
+            rest_speed: 1e-5,
+            break_away_speed: 2e-3,
+            min_rate: min_rate as f32,
+        };
+        let fixed = |min_rate| {
+            BreakAwayDetector::<1, Q16>::new(
+                config(min_rate),
+                &fixed_model,
+                Variant::Consistent,
+                0.95,
+            )
+        };
+        let float = |min_rate| {
+            BreakAwayDetector::<1>::new(config(min_rate), &float_model, Variant::Consistent, 0.95)
+                .unwrap()
+        };
+        // The bound, to its rounding; none for f32.
+        assert_eq!(
+            fixed(0.99 * bound).unwrap_err(),
+            ConfigError(Setting::MinRate)
+        );
+        // 0.2 N/s is below it at 10 kHz (0.46 N/s), above it at 1 kHz
+        // (0.046 N/s).
+        assert_eq!(fixed(0.2).is_ok(), period > 1e-4, "T = {period} s");
+        if period <= 1e-4 {
+            assert_eq!(fixed(0.2).unwrap_err(), ConfigError(Setting::MinRate));
+        }
+        let admitted = 1.01 * bound;
+        assert!(fixed(admitted).is_ok());
+        // Below: the f32 detector measures the ramp, the Q16 one at the
+        // smallest admitted min_rate gives no measurement.
+        for (x, (name, convert)) in [(0.87, roundings[0]), (1.2, roundings[1])] {
+            let k = x * step / period;
+            let samples = break_away_samples(&judge, k, period);
+            let mut float = float(0.1 * k);
+            let a = first_break_away(&mut float, &float_model, &samples, |u, v| (u, v)).unwrap();
+            assert!(
+                (a.rate as f64 / k - 1.0).abs() < 1e-4,
+                "f32 k {} vs {k}",
+                a.rate
+            );
+            let mut fixed = fixed(admitted).unwrap();
+            let b = first_break_away(&mut fixed, &fixed_model, &samples, convert);
+            assert_eq!(
+                b, None,
+                "T = {period} s, {x} steps per sample, rounded {name}"
+            );
+            assert!(fixed.is_empty());
+            println!(
+                "T = {period} s, k = {k:.4} N/s ({x} steps, rounded {name}): no Q16 measurement"
+            );
+        }
+        // Just inside: 2.05 steps per sample.
+        let k = 2.05 * step / period;
+        let samples = break_away_samples(&judge, k, period);
+        let a =
+            first_break_away(&mut float(admitted), &float_model, &samples, |u, v| (u, v)).unwrap();
+        for (name, convert) in roundings {
+            let mut fixed = fixed(admitted).unwrap();
+            let b = first_break_away(&mut fixed, &fixed_model, &samples, convert)
+                .expect("Q16 break-away detected");
+            let [dk, df, dt, dp, k_bound] = assert_q16_matches_f32(&a, &b, k);
+            println!(
+                "T = {period} s, k = {k:.4} N/s (2.05 steps, rounded {name}), {:.0} samples: \
+                 Q16 − f32: k {dk:.1e} (bound {k_bound:.1e}), F_ba {df:.1e} N, t {dt:.1e} s, \
+                 predicted F_ba {dp:.1e} relative",
+                a.time as f64 / period,
+            );
+        }
+    }
 }
 
 /// Settings that Q16 cannot hold: a sample rate of 32 768 Hz or more, or a
