@@ -766,6 +766,14 @@ fn detector_range_and_rejected_samples() {
         m.time
     );
 
+    // f32 sums round: past 10⁵ samples (10 s at 10 kHz) a rise gives no
+    // measurement (k was 9.7e-4 off at 10⁶), while 10⁵ is still measured.
+    let slow = 1.0; // N/s, above min_rate: 10 N after 10⁵ samples
+    let too_long = ramp(slow, 100_010);
+    assert!(first_break_away(&mut float, &float_model, &too_long, |u, v| (u, v)).is_none());
+    let m = first_break_away(&mut float, &float_model, &ramp(slow, 99_999), |u, v| (u, v)).unwrap();
+    assert!((m.rate / slow - 1.0).abs() < 2e-4, "k {} vs {slow}", m.rate);
+
     // Non-finite samples in the middle of a rise: rejected, state unchanged,
     // the measurement the same as without them.
     let mut clean = float.clone();

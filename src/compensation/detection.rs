@@ -32,7 +32,9 @@
 //! with no sum of t² or t·u that would outgrow a fixed-point type. The sums
 //! are kept in the number type's [`Accumulate::Sum`]: `f32` for `f32`; for
 //! [`Q16`] the raw values in `i64`, exact, so that k carries only the
-//! rounding of the one final division.
+//! rounding of the one final division. In `f32` the sums round: a rise
+//! longer than 10⁵ samples (10 s at 10 kHz) gives no measurement
+//! ([`Accumulate::MAX_TICKS`]; after 10⁶ samples k was 9.7e-4 off).
 //!
 //! # Q16
 //!
@@ -142,6 +144,13 @@ pub trait Accumulate: Scalar {
     /// every magnitude: 2⁻¹⁶ for [`Q16`]; 0 for `f32`, whose spacing is
     /// relative.
     const RESOLUTION: Self;
+    /// The longest rise [samples] whose sums keep the slope within 2e-4
+    /// relative: 10⁵ for `f32`, whose running sums round (k was 9.7e-4
+    /// off after 10⁶ samples of a ramp to 100 N, 2.7 % after 4·10⁶ of one
+    /// to 1.2 N; within 2e-4 at 10⁵, tested); no limit for [`Q16`] (exact
+    /// sums, whose overflow ends a rise at about 52 000 samples). A longer
+    /// rise gives no measurement.
+    const MAX_TICKS: u32;
     /// A sum of many samples: `f32` for `f32`; for [`Q16`] the raw value
     /// (value·2¹⁶) in `i64`, exact.
     type Sum: Copy + core::fmt::Debug + PartialEq;
@@ -169,6 +178,7 @@ fn finite(x: f32) -> Option<f32> {
 
 impl Accumulate for f32 {
     const RESOLUTION: f32 = 0.0;
+    const MAX_TICKS: u32 = 100_000;
     type Sum = f32;
     const SUM_ZERO: f32 = 0.0;
     fn widen(self) -> f32 {
@@ -200,6 +210,7 @@ impl Accumulate for f32 {
 /// rounded to nearest.
 impl<const K: usize> Accumulate for Q16<K> {
     const RESOLUTION: Self = Self::from_bits(1);
+    const MAX_TICKS: u32 = u32::MAX;
     type Sum = i64;
     const SUM_ZERO: i64 = 0;
     fn widen(self) -> i64 {
@@ -257,7 +268,7 @@ impl<T: Accumulate> Regression<T> {
 
     /// The next rising sample |u| = `magnitude` [N].
     fn add(&mut self, magnitude: T) {
-        let Some(ticks) = self.ticks.checked_add(1) else {
+        let Some(ticks) = self.ticks.checked_add(1).filter(|&t| t <= T::MAX_TICKS) else {
             self.sums = None;
             return;
         };
