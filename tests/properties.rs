@@ -3,12 +3,24 @@
 //! and turning points (§3), minor-loop closing and its overflow, rejected
 //! samples, and the shape of F_ba(k) (§4).
 
-mod common;
 use breakaway::{
     shape_f32, BreakAwayPredictor, Model, Param, ParamError, Params, PredictError, Presliding,
     SampleError, Variant,
 };
-use common::paper;
+
+/// The paper's Fig. 5 setting: Fc = 1 N, Fs = 1.5 N, σ = 0, z_max = 10 µm,
+/// with V = 1 mm/s and δ = 1.
+fn paper() -> Params {
+    Params {
+        fc: 1.0,
+        fs: 1.5,
+        v_stribeck: 1e-3,
+        delta: 1.0,
+        sigma: 0.0,
+        z_max: 1e-5,
+        epsilon: 0.0,
+    }
+}
 
 fn model(p: Params) -> Model<f32> {
     Model::new(p).expect("valid parameters")
