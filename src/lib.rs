@@ -47,7 +47,6 @@
     )
 )]
 
-pub mod breakaway;
 pub mod compensation;
 pub mod curves;
 #[cfg(all(feature = "cortex-m", not(breakaway_armv6m)))]
@@ -59,17 +58,18 @@ pub mod hal;
 pub mod model;
 pub mod params;
 pub mod position;
+pub mod predictor;
 pub mod presliding;
 pub mod scalar;
 
-pub use crate::breakaway::{
-    BreakAway, BreakAwayPredictor, PredictError, Variant, DEFAULT_BOUNDARY,
-};
 pub use crate::curves::{shape_f32, CurvesF32};
 pub use crate::fixed_point::{CountScale, TableCurves, Q16};
 pub use crate::model::Model;
 pub use crate::params::{Param, ParamError, Params};
 pub use crate::position::Position;
+pub use crate::predictor::{
+    BreakAway, BreakAwayPredictor, PredictError, Variant, DEFAULT_BOUNDARY,
+};
 pub use crate::presliding::{Presliding, SampleError, ScaleError, TurningPoint};
 pub use crate::scalar::{Curves, Scalar, Units};
 

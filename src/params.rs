@@ -75,6 +75,7 @@ impl Params {
 /// Names a parameter of [`Params`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub enum Param {
     /// Fc.
     Fc,
@@ -110,6 +111,7 @@ impl Param {
 /// A parameter set that breaks a rule of MODEL.md §2–§3.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub enum ParamError {
     /// The parameter is NaN or infinite.
     NotFinite(Param),

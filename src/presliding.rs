@@ -69,6 +69,7 @@ pub struct TurningPoint<T, P> {
 /// Why a sample was rejected. A rejected sample leaves the state unchanged.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub enum SampleError {
     /// The velocity estimate is NaN or infinite.
     NonFiniteVelocity,

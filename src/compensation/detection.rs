@@ -18,8 +18,8 @@
 
 use heapless::Deque;
 
-use crate::breakaway::{BreakAway, BreakAwayPredictor, Variant};
 use crate::model::Model;
+use crate::predictor::{BreakAway, BreakAwayPredictor, Variant};
 
 use super::{non_negative, positive, ConfigError, Setting, SignalError};
 

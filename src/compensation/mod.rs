@@ -83,6 +83,7 @@ use crate::scalar::Scalar;
 /// Names a setting of a compensation block.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub enum Setting {
     /// [`FeedforwardConfig::gain`].
     Gain,
@@ -159,6 +160,7 @@ impl core::error::Error for ConfigError {}
 /// left unchanged.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub enum SignalError {
     /// The force command u is NaN or infinite.
     Command,

@@ -36,6 +36,7 @@ use crate::scalar::{Curves, Scalar};
 /// Which steady-state level F̂ enters v(w) (MODEL.md §4).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub enum Variant {
     /// F̂ = Fc.
     Coulomb,
@@ -82,6 +83,7 @@ pub struct BreakAway<T> {
 /// Why a prediction could not be made.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub enum PredictError {
     /// The force rate k is not finite and > 0.
     InvalidRate,
