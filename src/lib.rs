@@ -7,8 +7,8 @@
 //! predictor of the break-away force as a function of the force rate.
 //!
 //! `#![no_std]`, no allocation, no panic on any input. The equations, names
-//! and units follow the project's contract `MODEL.md`; each module cites the
-//! section it implements.
+//! and units are those of [`model_overview`]; each module cites the section
+//! it implements.
 //!
 //! ```
 //! use breakaway::{BreakAwayPredictor, Model, Params, Presliding, Variant};
@@ -56,6 +56,7 @@ pub mod fixed_point;
 #[cfg(feature = "hal")]
 pub mod hal;
 pub mod model;
+pub mod model_overview;
 pub mod params;
 pub mod position;
 pub mod predictor;

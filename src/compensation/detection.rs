@@ -1,4 +1,4 @@
-//! Online break-away detection (MODEL.md §4).
+//! Online break-away detection ([model](crate::model_overview#break-away-predictor)).
 //!
 //! While the axis is at rest (|v| ≤ rest_speed, presliding creep included)
 //! under a force command whose magnitude rises, the detector fits the force
