@@ -1,18 +1,22 @@
 //! Build-time set-up.
 //!
 //! - Generates the fixed-point table of the presliding shape
-//!   g(w) = w·(1 − ln w) (MODEL.md §3), which depends on no parameter, into
-//!   `OUT_DIR/shape_table.rs` (flash, not RAM; see `src/fixed_point.rs`).
-//! - Firmware link set-up for the Cortex-M (`thumb*`) targets: the examples
-//!   link with cortex-m-rt's `link.x`, which includes the top-level
-//!   `memory.x`. That map serves the mps2 boards (4 MiB / 4 MiB); for thumbv6m
-//!   (QEMU's microbit) this script defines the smaller flash and RAM lengths
-//!   that `memory.x` reads.
+//!   g(w) = w·(1 − ln w) (`breakaway::model_overview`, "Presliding"), which
+//!   depends on no parameter, into `OUT_DIR/shape_table.rs` (flash, not RAM;
+//!   see `src/fixed_point.rs`).
+//! - Firmware link set-up for the examples of the repository on the
+//!   Cortex-M (`thumb*`) targets: they link with cortex-m-rt's `link.x`,
+//!   which includes the top-level `memory.x`. That map serves the mps2
+//!   boards (4 MiB / 4 MiB); for thumbv6m (QEMU's microbit) this script
+//!   defines the smaller flash and RAM lengths that `memory.x` reads. The
+//!   published package holds neither the examples nor `memory.x`; these
+//!   link arguments apply to examples only, so a library build never needs
+//!   them.
 
 use std::env;
 use std::fmt::Write as _;
 use std::fs;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Points per octave of the shape table.
 const SHAPE_K: usize = 64;
@@ -58,7 +62,11 @@ fn shape_table() -> String {
 
 fn main() {
     println!("cargo:rerun-if-changed=build.rs");
-    println!("cargo:rerun-if-changed=memory.x");
+    // Only where it exists (the repository, not the package): a missing
+    // file would rerun this script on every build.
+    if Path::new("memory.x").exists() {
+        println!("cargo:rerun-if-changed=memory.x");
+    }
     println!("cargo::rustc-check-cfg=cfg(breakaway_armv6m)");
     let out = PathBuf::from(env::var_os("OUT_DIR").expect("cargo sets OUT_DIR"));
     fs::write(out.join("shape_table.rs"), shape_table()).expect("OUT_DIR is writable");

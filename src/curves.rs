@@ -1,11 +1,13 @@
-//! The Stribeck curve S(v) (MODEL.md §2) and the presliding shape
-//! g(w) = w·(1 − ln w) (MODEL.md §3) in `f32`.
+//! The Stribeck curve S(v) and the presliding shape g(w) = w·(1 − ln w) in
+//! `f32` ([Stribeck curve](crate::model_overview#stribeck-curve),
+//! [presliding](crate::model_overview#presliding)).
 //!
-//! The exponential and logarithm come from [`fastmath`]:
-//! single-precision kernels for exactly the domains the model needs
-//! (e^(−p) with p ≥ 0, ln w with w in (0, 0.9]), without the special-case
-//! branches of a general `expf`/`logf`; `cargo xtask profile` shows the
-//! cost against `libm` (`naive_libm_update`).
+//! The exponential and logarithm come from [`fastmath`]: single-precision
+//! kernels for exactly the domains the model needs (e^(−p) with p ≥ 0, ln w
+//! with w in (0, 0.9]), without the special-case branches of a general
+//! `expf`/`logf`;
+//! [`cargo xtask profile`](https://github.com/breakaway-rs/breakaway/blob/main/docs/cycle-budget.md)
+//! shows the cost against `libm` (`naive_libm_update`).
 
 use crate::fastmath;
 use crate::params::{Param, ParamError, Params};
@@ -89,7 +91,8 @@ impl Curves<f32> for CurvesF32 {
     }
 }
 
-/// g(w) = w·(1 − ln w), clamped to g(w ≤ 0) = 0 and g(w ≥ 1) = 1 (MODEL.md §3).
+/// g(w) = w·(1 − ln w), clamped to g(w ≤ 0) = 0 and g(w ≥ 1) = 1
+/// ([presliding](crate::model_overview#presliding)).
 ///
 /// The result never exceeds 1, so a branch H_r + (d·S − H_r)·g(w) stays
 /// between its two ends.

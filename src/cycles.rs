@@ -1,9 +1,11 @@
 //! Cycle counting on hardware (feature `cortex-m`, ARMv7-M and later): times
 //! a closure with the DWT cycle counter.
 //!
-//! Under QEMU the DWT cycle counter is not modelled and reads 0: a
-//! measurement then comes back as [`Cycles::NotCounting`] rather than as a
-//! figure of 0. `cargo xtask profile` counts instructions under QEMU instead.
+//! Under QEMU the DWT cycle counter is not modelled and reads 0: a measurement
+//! then comes back as [`Cycles::NotCounting`] rather than as a figure of 0. The
+//! repository's
+//! [`cargo xtask profile`](https://github.com/breakaway-rs/breakaway/blob/main/docs/cycle-budget.md)
+//! counts instructions under QEMU instead.
 
 use cortex_m::peripheral::{DCB, DWT};
 

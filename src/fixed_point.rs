@@ -1,4 +1,5 @@
-//! The model in fixed point, for MCUs without an FPU (MODEL.md §2–§4).
+//! The model in fixed point, for MCUs without an FPU
+//! ([units](crate::model_overview#fixed-point-units)).
 //!
 //! [`Q16<K>`] is a Q16.16 number (`fixed::types::I16F16`: 16 integer and 16
 //! fractional bits, range ±32768, resolution 1.5e-5) whose arithmetic
@@ -22,26 +23,47 @@
 //! | time t_ba | s | < 32768 s |
 //!
 //! Convert once at the boundary: [`Model::velocity`](crate::Model::velocity)
-//! for velocities, [`Model::position_scale`](crate::Model::position_scale)
-//! for the encoder scale, multiply forces by Fs. Parameters whose scaled values
-//! do not fit are rejected at construction with
-//! [`ParamError::OutOfRange`] naming the
-//! parameter: σ·V/Fs and ε/z_max·256 must be below 32768 and Fc/Fs above
+//! for velocities, [`Model::position_scale`](crate::Model::position_scale) for
+//! the encoder scale, multiply forces by Fs. Parameters whose scaled values do
+//! not fit are rejected at construction with [`ParamError::OutOfRange`] naming
+//! the parameter: σ·V/Fs and ε/z_max·256 must be below 32768 and Fc/Fs above
 //! 2⁻¹⁶. The encoder scale ([`CountScale`]) is admitted for counts from
 //! z_max/2³⁴ to below 128·z_max and keeps 30 bits of relative precision over
 //! that range: the count difference is scaled in 64 bits before anything is
-//! rounded, so a 20-bit encoder on a fine screw (10⁵–10⁶ counts per z_max)
-//! is as exact as a coarse one. Samples outside the ranges saturate: a
-//! velocity beyond 32768·V is taken as 32768·V (S is Fc there for any
-//! δ ≥ 0.1), a travel beyond 128·z_max as 128·z_max (w is 1 there), and the
-//! friction output saturates at ±32768·Fs.
+//! rounded, so a 20-bit encoder on a fine screw (10⁵–10⁶ counts per z_max) is
+//! as exact as a coarse one (tested from 10 to 10⁷ counts per z_max). Samples
+//! outside the ranges saturate: a velocity beyond 32768·V is taken as 32768·V
+//! (S is Fc there for any δ ≥ 0.1), a travel beyond 128·z_max as 128·z_max (w
+//! is 1 there), and the friction output saturates at ±32768·Fs.
 //!
-//! Accuracy (measured in `tests/fixed_point.rs` against the f64 reference at
-//! the same quantized inputs): friction within 1e-3·Fs for |v| ≤ 64·V (above
-//! that the viscous term σ·v carries the quantization of σ, 1.5e-5·Fs/V,
-//! times |v|/V); F_ba within 1e-3 relative while v_b ≥ 1e-3·V (below, the
-//! velocity resolution 1.5e-5·V moves S(v_b) by up to (1.5e-5)^δ·(Fs − Fc)
-//! relative to Fs, 4e-3·(Fs − Fc) for δ = 0.5).
+//! Accuracy (bounds of the repository's
+//! [`tests-ref/tests/fixed_point.rs`](https://github.com/breakaway-rs/breakaway/blob/main/tests-ref/tests/fixed_point.rs)
+//! against the f64 reference at the same quantized inputs; the worst cases
+//! measured are in
+//! [docs/accuracy.md](https://github.com/breakaway-rs/breakaway/blob/main/docs/accuracy.md)):
+//! friction within 1e-3·Fs for |v| ≤ 64·V (above that the viscous term σ·v
+//! carries the quantization of σ, 1.5e-5·Fs/V, times |v|/V); F_ba within 1e-3
+//! relative while v_b ≥ 1e-3·V (below, the velocity resolution 1.5e-5·V moves
+//! S(v_b) by up to (1.5e-5)^δ·(Fs − Fc) relative to Fs, 4e-3·(Fs − Fc) for
+//! δ = 0.5).
+//! The worst cases measured there: 5.1e-4·Fs for the friction, 2.3e-4 for
+//! F_ba.
+//!
+//! ```
+//! use breakaway::{Model, Params, Presliding, Scalar, Q16};
+//!
+//! let params = Params { fc: 1.0, fs: 1.5, v_stribeck: 1e-3, delta: 1.0,
+//!                       sigma: 0.0, z_max: 1e-5, epsilon: 0.0 };
+//! let model = Model::<Q16>::new(params)?; // rejects what does not fit, naming it
+//! // Per-unit numbers: force in Fs, velocity in V, length in z_max/256.
+//! let scale = model.position_scale::<i32>(1e-8).unwrap(); // 10 nm encoder counts
+//! let mut axis = Presliding::<i32, Q16>::new(0, scale).unwrap();
+//! let v = model.velocity(1e-4).unwrap(); // 0.1 mm/s = 0.1·V
+//! let f = axis.update(&model, 400, v).unwrap(); // 4 µm into presliding
+//! let newtons = f.to_f32() * params.fs;
+//! assert!(newtons > 0.9 && newtons < 1.5);
+//! # Ok::<(), breakaway::ParamError>(())
+//! ```
 //!
 //! # Tables
 //!
@@ -60,11 +82,13 @@
 //!
 //! # Construction on a small MCU
 //!
-//! [`Model::new`](crate::Model::new) returns the model by value, which may
-//! copy the table through the stack. [`Model::set_params`](crate::Model::set_params)
+//! [`Model::new`](crate::Model::new) returns the model by value, which may copy
+//! the table through the stack. [`Model::set_params`](crate::Model::set_params)
 //! builds it where the model lives, starting from the `const`
 //! [`Model::UNIT_COULOMB`](crate::Model::UNIT_COULOMB): 460 bytes of stack on
-//! the Cortex-M0 (`cargo xtask profile`, row `new_model_fixed`).
+//! the Cortex-M0
+//! ([`cargo xtask profile`](https://github.com/breakaway-rs/breakaway/blob/main/docs/cycle-budget.md),
+//! row `new_model_fixed`).
 //!
 //! ```
 //! use breakaway::{Model, Params, Q16};

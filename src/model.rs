@@ -1,4 +1,5 @@
-//! A validated parameter set ready for the per-sample path (MODEL.md §2–§3).
+//! A validated parameter set ready for the per-sample path
+//! ([parameters](crate::model_overview#parameters)).
 
 // Arithmetic here is on the generic number type `T`, whose operators are
 // total by the `Scalar` contract (IEEE `f32`; saturating `Q16`): no panic, no
@@ -31,7 +32,8 @@ pub struct Model<T: Scalar = f32> {
 }
 
 impl<T: Scalar> Model<T> {
-    /// Validates `params` against MODEL.md §2–§3 and prepares the model.
+    /// Validates `params` against the rules of the
+    /// [model](crate::model_overview#parameters) and prepares the model.
     ///
     /// ```
     /// use breakaway::{Model, Params, ParamError};
@@ -147,14 +149,15 @@ impl<T: Scalar> Model<T> {
         &self.params
     }
 
-    /// Stribeck magnitude S(v) [N] at velocity `v` [m/s] (MODEL.md §2).
+    /// Stribeck magnitude S(v) [N] at velocity `v` [m/s] ([Stribeck
+    /// curve](crate::model_overview#stribeck-curve)).
     #[inline]
     pub fn stribeck(&self, v: T) -> T {
         self.curves.stribeck(v)
     }
 
-    /// Steady-state friction F_ss(v) = sgn(v)·S(v) + σ·v [N] (MODEL.md §2);
-    /// F_ss(0) = 0.
+    /// Steady-state friction F_ss(v) = sgn(v)·S(v) + σ·v [N] ([Stribeck
+    /// curve](crate::model_overview#stribeck-curve)); F_ss(0) = 0.
     #[inline]
     pub fn steady_state(&self, v: T) -> T {
         let viscous = (self.sigma * v).saturate();
@@ -167,7 +170,8 @@ impl<T: Scalar> Model<T> {
         }
     }
 
-    /// Presliding shape g(w) = w·(1 − ln w), clamped to [0, 1] (MODEL.md §3).
+    /// Presliding shape g(w) = w·(1 − ln w), clamped to [0, 1]
+    /// ([presliding](crate::model_overview#presliding)).
     #[inline]
     pub fn shape(&self, w: T) -> T {
         self.curves.shape(w)

@@ -1,4 +1,5 @@
-//! Model parameters and their validation (MODEL.md §2–§3).
+//! Model parameters and their validation
+//! ([parameters](crate::model_overview#parameters)).
 //!
 //! [`Params`] is the parameter set in SI units as a user writes it down.
 //! [`Model::new`](crate::Model::new) checks it once against every rule of the
@@ -6,7 +7,8 @@
 
 use core::fmt;
 
-/// The parameters of the friction model of MODEL.md §2–§3, in SI units.
+/// The parameters of the friction model, in SI units
+/// ([parameters](crate::model_overview#parameters)).
 ///
 /// Rotary axes read rad, N·m and rad/s for m, N and m/s.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -30,8 +32,8 @@ pub struct Params {
 }
 
 impl Params {
-    /// Checks every rule of MODEL.md §2–§3 and returns the first violation,
-    /// in the order of the fields.
+    /// Checks every rule of the [model](crate::model_overview#parameters) and
+    /// returns the first violation, in the order of the fields.
     pub fn validate(&self) -> Result<(), ParamError> {
         let fields = [
             (Param::Fc, self.fc),
@@ -75,6 +77,7 @@ impl Params {
 /// Names a parameter of [`Params`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub enum Param {
     /// Fc.
     Fc,
@@ -93,7 +96,8 @@ pub enum Param {
 }
 
 impl Param {
-    /// The parameter's key in a model file (MODEL.md §7).
+    /// The parameter's key in a model file
+    /// ([parameters](crate::model_overview#parameters)).
     pub const fn key(self) -> &'static str {
         match self {
             Param::Fc => "fc",
@@ -107,9 +111,11 @@ impl Param {
     }
 }
 
-/// A parameter set that breaks a rule of MODEL.md §2–§3.
+/// A parameter set that breaks a rule of the
+/// [model](crate::model_overview#parameters).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub enum ParamError {
     /// The parameter is NaN or infinite.
     NotFinite(Param),

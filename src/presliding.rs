@@ -1,4 +1,5 @@
-//! The rate-independent presliding state machine (MODEL.md §3).
+//! The rate-independent presliding state machine
+//! ([model](crate::model_overview#presliding)).
 //!
 //! Fed one position sample and one velocity estimate per control period, it
 //! tracks the direction of motion d, the turning point x_r with its dry
@@ -10,16 +11,18 @@
 //! F = H + σ·v
 //! ```
 //!
-//! with the turning-point deadband ε and the idle start of MODEL.md §3.
+//! with the turning-point deadband ε and the [idle
+//! start](crate::model_overview#idle-start) of the model.
 //!
 //! # Memory of turning points
 //!
-//! [`Presliding<P, T, 0>`](Presliding) (the default, `N = 0`) keeps one
-//! turning point: the reference rule of MODEL.md §3.
+//! [`Presliding<P, T, 0>`](Presliding) (the default, `N = 0`) keeps one turning
+//! point: the single-turning-point rule of the
+//! [model](crate::model_overview#turning-points-and-deadband).
 //!
 //! With `N > 0` the state machine also keeps a stack of up to `N` earlier
 //! turning points and **closes minor loops** (an option beyond the paper,
-//! MODEL.md §3 "Minor loops"):
+//! [model: minor loops](crate::model_overview#minor-loops)):
 //!
 //! - while the current branch, which starts at the last turning point R, heads
 //!   back towards the previous turning point T (the one before R), it runs
@@ -43,7 +46,42 @@
 //!
 //! Without the closing memory, a small back-and-forth inside presliding does
 //! not return to where it started, and a periodic force below Fc can make the
-//! axis creep (MODEL.md §8).
+//! axis creep ([known limits](crate::model_overview#known-limits)).
+//!
+//! # Example
+//!
+//! ```
+//! use breakaway::{Model, Params, Presliding};
+//!
+//! let model = Model::<f32>::new(Params {
+//!     fc: 1.0,          // Coulomb level [N]
+//!     fs: 1.5,          // stiction level [N]
+//!     v_stribeck: 1e-3, // Stribeck velocity [m/s]
+//!     delta: 1.0,       // shape exponent
+//!     sigma: 0.0,       // viscous coefficient [N·s/m]
+//!     z_max: 1e-5,      // presliding distance [m]
+//!     epsilon: 0.0,     // turning-point deadband [m]
+//! })?;
+//!
+//! // One axis, positions as encoder counts of 10 nm: exact at any distance.
+//! let mut axis = Presliding::<i64>::new(0, 1e-8).unwrap();
+//! let mut force = 0.0;
+//! for count in [0, 200, 400, 600, 300] {
+//!     // position sample, velocity estimate [m/s] -> friction force [N]
+//!     force = axis.update(&model, count, 1e-4).unwrap();
+//! }
+//! // Reversed at 6 µm: friction is on its way from +H_r towards −S(v).
+//! assert_eq!(axis.direction(), -1);
+//! assert!(force < 0.0 && force > -1.5);
+//!
+//! // A NaN sample is rejected and leaves the state untouched.
+//! assert!(axis.update(&model, 300, f32::NAN).is_err());
+//!
+//! // Minor loops close when the axis keeps a stack of 8 turning points.
+//! let mut closing = Presliding::<i64, f32, 8>::new(0, 1e-8).unwrap();
+//! closing.update(&model, 500, 0.0).unwrap();
+//! # Ok::<(), breakaway::ParamError>(())
+//! ```
 
 // Arithmetic here is on the generic number type `T`, whose operators are
 // total by the `Scalar` contract (IEEE `f32`; saturating `Q16`): no panic, no
@@ -69,6 +107,7 @@ pub struct TurningPoint<T, P> {
 /// Why a sample was rejected. A rejected sample leaves the state unchanged.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub enum SampleError {
     /// The velocity estimate is NaN or infinite.
     NonFiniteVelocity,
@@ -100,7 +139,7 @@ impl core::fmt::Display for ScaleError {
 
 impl core::error::Error for ScaleError {}
 
-/// The presliding state of one axis (MODEL.md §3).
+/// The presliding state of one axis ([presliding](crate::model_overview#presliding)).
 ///
 /// - `P`: the position sample type (`f32` metres, or `i32`/`i64` encoder
 ///   counts, see [`position`](crate::position));
@@ -170,7 +209,8 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
         }
     }
 
-    /// Returns to the idle state at `start` (MODEL.md §3: d = 0, H_r = 0).
+    /// Returns to the idle state at `start` ([idle
+    /// start](crate::model_overview#idle-start): d = 0, H_r = 0).
     pub fn reset(&mut self, start: P) {
         *self = Self::idle(start, self.scale);
     }

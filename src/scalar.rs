@@ -3,11 +3,12 @@
 //! The friction model is written once, generic over [`Scalar`]. A number type
 //! supplies plain arithmetic through the `core::ops` traits and, through its
 //! associated [`Curves`] type, the two non-polynomial functions of the model:
-//! the Stribeck curve S(v) (MODEL.md §2) and the presliding shape
-//! g(w) = w·(1 − ln w) (MODEL.md §3). For `f32` these are evaluated with the
-//! single-precision kernels of [`fastmath`](crate::fastmath); the fixed-point
-//! type [`Q16`](crate::Q16) supplies table-based curves and reuses the state
-//! machine and the predictor unchanged.
+//! the [Stribeck curve](crate::model_overview#stribeck-curve) S(v) and the
+//! [presliding](crate::model_overview#presliding) shape g(w) = w·(1 − ln w).
+//! For `f32` these are evaluated with the single-precision kernels of
+//! [`fastmath`](crate::fastmath); the fixed-point type [`Q16`](crate::Q16)
+//! supplies table-based curves and reuses the state machine and the predictor
+//! unchanged.
 
 // Arithmetic here is on the generic number type `T`, whose operators are
 // total by the `Scalar` contract (IEEE `f32`; saturating `Q16`): no panic, no
@@ -117,11 +118,12 @@ pub trait Curves<T>: Sized + Clone {
     fn rebuild(&mut self, params: &Params) {
         *self = Self::build(params);
     }
-    /// Stribeck magnitude S(v) = Fc + (Fs − Fc)·exp(−(|v|/V)^δ) at the
-    /// velocity `v` (MODEL.md §2), in model units (N and m/s for `f32`).
+    /// Stribeck magnitude S(v) = Fc + (Fs − Fc)·exp(−(|v|/V)^δ) at the velocity
+    /// `v` ([Stribeck curve](crate::model_overview#stribeck-curve)), in model
+    /// units (N and m/s for `f32`).
     fn stribeck(&self, v: T) -> T;
     /// Presliding shape g(w) = w·(1 − ln w) for `w` in [0, 1]; 0 for `w ≤ 0`,
-    /// 1 for `w ≥ 1` (MODEL.md §3).
+    /// 1 for `w ≥ 1` ([presliding](crate::model_overview#presliding)).
     fn shape(&self, w: T) -> T;
 }
 

@@ -1,14 +1,26 @@
-//! Properties of the f32 library that MODEL.md states directly: parameter
-//! rules (§2–§3), the shape g (§3), the state machine's idle start, deadband
-//! and turning points (§3), minor-loop closing and its overflow, rejected
-//! samples, and the shape of F_ba(k) (§4).
+//! Properties of the f32 library that the model (`breakaway::model_overview`)
+//! states directly: parameter rules, the shape g, the state machine's idle
+//! start, deadband and turning points, minor-loop closing and its overflow,
+//! rejected samples, and the shape of F_ba(k).
 
-mod common;
 use breakaway::{
     shape_f32, BreakAwayPredictor, Model, Param, ParamError, Params, PredictError, Presliding,
     SampleError, Variant,
 };
-use common::paper;
+
+/// The paper's Fig. 5 setting: Fc = 1 N, Fs = 1.5 N, σ = 0, z_max = 10 µm,
+/// with V = 1 mm/s and δ = 1.
+fn paper() -> Params {
+    Params {
+        fc: 1.0,
+        fs: 1.5,
+        v_stribeck: 1e-3,
+        delta: 1.0,
+        sigma: 0.0,
+        z_max: 1e-5,
+        epsilon: 0.0,
+    }
+}
 
 fn model(p: Params) -> Model<f32> {
     Model::new(p).expect("valid parameters")
@@ -59,7 +71,7 @@ fn every_invalid_parameter_has_its_own_error() {
         let text = err.to_string();
         assert!(text.contains(err.param().key()), "{text}");
     }
-    // Valid by MODEL.md, not representable: 1/V and 1/z_max overflow f32.
+    // Valid by the model, not representable: 1/V and 1/z_max overflow f32.
     let mut p = paper();
     p.v_stribeck = 1e-40;
     assert_eq!(
@@ -86,7 +98,7 @@ fn shape_ends_and_monotone() {
     assert_eq!(shape_f32(1.0), 1.0);
     assert_eq!(shape_f32(-3.0), 0.0);
     assert_eq!(shape_f32(7.0), 1.0);
-    // g(0.15) = 0.43 as quoted in MODEL.md §3; g(0.5) = 0.5·(1 + ln 2).
+    // g(0.15) = 0.43 as quoted in the model overview (turning points); g(0.5) = 0.5·(1 + ln 2).
     assert!((shape_f32(0.15) - 0.434_568).abs() < 1e-6);
     assert!((shape_f32(0.5) - 0.846_573_6).abs() < 1e-6);
     let mut last = 0.0;

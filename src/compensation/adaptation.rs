@@ -1,5 +1,6 @@
 //! Online adaptation of the friction levels: a bounded scale θ on Fc and Fs
-//! (MODEL.md §2, the `drift` effect of §5: temperature, lubricant, wear).
+//! ([Stribeck curve](crate::model_overview#stribeck-curve); the `drift` of the
+//! [effects](crate::model_overview#effects): temperature, lubricant, wear).
 //!
 //! While the axis slides, the dry friction is d·θ*·S(v) with the unknown
 //! true scale θ*, and a feedforward at scale θ leaves the residual

@@ -1,4 +1,4 @@
-//! Online break-away detection (MODEL.md §4).
+//! Online break-away detection ([model](crate::model_overview#break-away-predictor)).
 //!
 //! While the axis is at rest (|v| ≤ rest_speed, presliding creep included)
 //! under a force command whose magnitude rises, the detector fits the force
@@ -94,9 +94,9 @@
 
 use heapless::Deque;
 
-use crate::breakaway::{BreakAway, BreakAwayPredictor, Variant};
 use crate::fixed_point::Q16;
 use crate::model::Model;
+use crate::predictor::{BreakAway, BreakAwayPredictor, Variant};
 use crate::scalar::Scalar;
 
 use super::{non_negative, positive, setting_in, ConfigError, Setting, SignalError};

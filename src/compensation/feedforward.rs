@@ -1,4 +1,5 @@
-//! Friction feedforward through the presliding model (MODEL.md §3).
+//! Friction feedforward through the
+//! [presliding](crate::model_overview#presliding) model.
 //!
 //! The reference trajectory (x_ref, v_ref) drives a [`Presliding`] state, and
 //! the compensation force is
@@ -58,9 +59,10 @@ impl Default for FeedforwardConfig {
 ///
 /// `P` is the position type of [`Presliding`] (`f32` metres, or `i32`/`i64`
 /// counts), `T` the number type (`f32`, or [`Q16`](crate::Q16) for an MCU
-/// without an FPU: forces in units of Fs, velocities in units of V), `N`
-/// the turning-point memory (0: the reference rule of MODEL.md §3; N > 0
-/// closes minor loops).
+/// without an FPU: forces in units of Fs, velocities in units of V), `N` the
+/// turning-point memory (0: the single-turning-point rule of the
+/// [model](crate::model_overview#turning-points-and-deadband); N > 0 closes
+/// minor loops).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Feedforward<P: Position<T> = f32, T: Scalar = f32, const N: usize = 0> {
     config: FeedforwardConfig,

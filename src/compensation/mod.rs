@@ -2,23 +2,42 @@
 //! controller links in on top of the friction model.
 //!
 //! - [`Feedforward`]: the compensation force from the reference trajectory
-//!   (x_ref, v_ref) through the presliding model (MODEL.md §3), so that the
-//!   force ramps through a reversal along the hysteresis branch
-//!   H = H_r + (d·S(v) − H_r)·g(w) instead of switching sign as Fc·sgn(v)
-//!   does (the cause of quadrant glitches).
-//! - [`DisturbanceObserver`]: the nominal-plant inverse m_n·a of MODEL.md §1
-//!   with a first-order low-pass filter, estimating the force that the
-//!   feedforward does not explain (in the style of Iwasaki, Shibata and
-//!   Matsui, "Disturbance-observer-based nonlinear friction compensation in
-//!   table drive system", IEEE/ASME Trans. Mechatronics 4(1), 1999, cited by
-//!   the seed paper).
+//!   (x_ref, v_ref) through the [presliding](crate::model_overview#presliding)
+//!   model, so that the force ramps through a reversal along the hysteresis
+//!   branch H = H_r + (d·S(v) − H_r)·g(w) instead of switching sign as
+//!   Fc·sgn(v) does (the cause of quadrant glitches).
+//! - [`DisturbanceObserver`]: the nominal-plant inverse m_n·a of the
+//!   [plant](crate::model_overview#plant) with a first-order low-pass filter,
+//!   estimating the force that the feedforward does not explain (in the
+//!   style of Iwasaki, Shibata and Matsui, "Disturbance-observer-based
+//!   nonlinear friction compensation in table drive system", IEEE/ASME
+//!   Trans. Mechatronics 4(1), 1999, cited by the seed paper).
 //! - [`LevelAdaptation`]: a bounded, slow estimator of a common scale on Fc
-//!   and Fs (temperature, wear: the `drift` effect of MODEL.md §5), driven by
-//!   the observer's residual while sliding and frozen in presliding and at
-//!   rest; [`SplitLevelAdaptation`] estimates separate scales on Fc and Fs.
+//!   and Fs (temperature, wear: the `drift` of the
+//!   [effects](crate::model_overview#effects)), driven by the observer's
+//!   residual while sliding and frozen in presliding and at rest;
+//!   [`SplitLevelAdaptation`] estimates separate scales on Fc and Fs.
 //! - [`BreakAwayDetector`]: online break-away detection under a rising force
-//!   command; keeps measured (k, F_ba) pairs (MODEL.md §4) in a fixed-capacity
-//!   buffer for a refit of the predictor on the host.
+//!   command; keeps measured (k, F_ba) pairs
+//!   ([break-away predictor](crate::model_overview#break-away-predictor)) in
+//!   a fixed-capacity buffer for a refit of the predictor on the host.
+//!
+//! | block | what it computes | model |
+//! |---|---|---|
+//! | [`Feedforward`] | u_ff = clamp(gain·(θ·H + σ·v), ±limit) from (x_ref, v_ref) through the presliding state machine: at a reversal the force swings along g(w) over z_max of travel instead of stepping by 2·Fc | [presliding](crate::model_overview#presliding) |
+//! | [`DisturbanceObserver`] | r = Q(u − m_n·Δv/T − u_ff), Q a first-order low pass of bandwidth g: the force the feedforward does not explain | [plant](crate::model_overview#plant) |
+//! | [`LevelAdaptation`] | θ ← clamp(θ + γ·T·r/H, θ_min, θ_max): one scale on Fc and Fs, frozen in presliding and below `min_speed` | [Stribeck curve](crate::model_overview#stribeck-curve), `drift` |
+//! | [`SplitLevelAdaptation`] | (θc, θs) on Fc and Fs separately, regressors Fc·(1 − e(v)), Fs·e(v) through the observer's low pass, least squares with forgetting, bounded, Fs·θs ≥ Fc·θc; feed `params()` to a new `Model` | [Stribeck curve](crate::model_overview#stribeck-curve), `drift` |
+//! | [`BreakAwayDetector<N>`](BreakAwayDetector) | least-squares k of a rising \|u\| at rest, break-away when \|v\| > `break_away_speed`, (k, F_ba, t_ba, predicted) in a `heapless::Deque` of N | [break-away predictor](crate::model_overview#break-away-predictor) |
+//! | `hal::PwmForce` (feature `hal`) | force → `embedded_hal::pwm::SetDutyCycle`, `Centered` (50 % = 0 N) or `Magnitude` (+ direction), saturating at ±F_full | – |
+//!
+//! The blocks of this module need no feature; only the PWM output
+//! `hal::PwmForce` needs the feature `hal` (it depends on `embedded-hal`).
+//! The closed-loop benchmarks, on the host and on the Cortex-M0 in Q16
+//! (within 0.6 % of the host; the whole Q16 loop in 15.7 KB of flash and
+//! 1.5 KB of RAM), are in the repository's
+//! [docs/compensation.md](https://github.com/breakaway-rs/breakaway/blob/main/docs/compensation.md)
+//! and [docs/cycle-budget.md](https://github.com/breakaway-rs/breakaway/blob/main/docs/cycle-budget.md).
 //!
 //! All of it is allocation-free and panic-free; settings are validated
 //! once at construction ([`ConfigError`] names the setting) and a non-finite
@@ -85,6 +104,7 @@ use crate::scalar::Scalar;
 /// Names a setting of a compensation block.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub enum Setting {
     /// [`FeedforwardConfig::gain`].
     Gain,
@@ -161,6 +181,7 @@ impl core::error::Error for ConfigError {}
 /// left unchanged.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub enum SignalError {
     /// The force command u is NaN or infinite.
     Command,

@@ -1,5 +1,5 @@
 //! Disturbance observer: nominal-plant inverse with a low-pass filter
-//! (MODEL.md §1), in the style of Iwasaki, Shibata and Matsui (1999).
+//! ([plant](crate::model_overview#plant)), in the style of Iwasaki, Shibata and Matsui (1999).
 //!
 //! For the plant m·ẍ = u − F the force the motion reveals over one sample
 //! period T, with the command u held constant (zero-order hold), is

@@ -1,4 +1,5 @@
-//! The break-away predictor (MODEL.md §4, after Ruderman's eqs. 12–13).
+//! The break-away predictor, after Ruderman's eqs. 12–13
+//! ([model](crate::model_overview#break-away-predictor)).
 //!
 //! Under a force ramp u = k·t from idle, and neglecting inertia in
 //! presliding, the velocity at normalised travel w is
@@ -22,8 +23,22 @@
 //! when the Aitken estimate of the remaining error falls below a few ulp.
 //!
 //! The quasi-static result holds while inertia is negligible in presliding,
-//! roughly m·k²·z_max / (F̂³·w_b·|ln w_b|³) ≪ 1 (MODEL.md §4, §8); beyond
-//! that, the full dynamics of the reference simulator are the judge.
+//! roughly m·k²·z_max / (F̂³·w_b·|ln w_b|³) ≪ 1
+//! ([validity](crate::model_overview#break-away-predictor), [known
+//! limits](crate::model_overview#known-limits)); beyond that, the full dynamics
+//! of the reference simulator are the judge.
+//!
+//! ```
+//! use breakaway::{BreakAwayPredictor, Model, Params, Variant};
+//! let model = Model::<f32>::new(Params { fc: 1.0, fs: 1.5, v_stribeck: 1e-3,
+//!     delta: 1.0, sigma: 0.0, z_max: 1e-5, epsilon: 0.0 })?;
+//! // Break-away force under the force ramp u = k·t, k = 2 N/s.
+//! let predictor = BreakAwayPredictor::new(&model, 0.95).unwrap();
+//! let ba = predictor.predict(&model, Variant::Consistent, 2.0).unwrap();
+//! assert!(ba.f_ba > model.params().fc && ba.f_ba < model.params().fs);
+//! println!("F_ba = {} N at t = {} s (v_b = {} m/s)", ba.f_ba, ba.t_ba, ba.v_b);
+//! # Ok::<(), breakaway::ParamError>(())
+//! ```
 
 // Arithmetic here is on the generic number type `T`, whose operators are
 // total by the `Scalar` contract (IEEE `f32`; saturating `Q16`): no panic, no
@@ -33,9 +48,11 @@
 use crate::model::Model;
 use crate::scalar::{Curves, Scalar};
 
-/// Which steady-state level F̂ enters v(w) (MODEL.md §4).
+/// Which steady-state level F̂ enters v(w) ([break-away
+/// predictor](crate::model_overview#break-away-predictor)).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub enum Variant {
     /// F̂ = Fc.
     Coulomb,
@@ -48,7 +65,8 @@ pub enum Variant {
 }
 
 impl Variant {
-    /// The four variants, in the order of MODEL.md §4.
+    /// The four variants, in the order of the [model
+    /// overview](crate::model_overview#break-away-predictor).
     pub const ALL: [Variant; 4] = [
         Variant::Coulomb,
         Variant::Stiction,
@@ -82,6 +100,7 @@ pub struct BreakAway<T> {
 /// Why a prediction could not be made.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub enum PredictError {
     /// The force rate k is not finite and > 0.
     InvalidRate,
