@@ -15,8 +15,7 @@
 //! - [`LevelAdaptation`]: a bounded, slow estimator of a common scale on Fc
 //!   and Fs (temperature, wear: the `drift` of the
 //!   [effects](crate::model_overview#effects)), driven by the observer's
-//!   residual while sliding and frozen in presliding and at rest;
-//!   [`SplitLevelAdaptation`] estimates separate scales on Fc and Fs.
+//!   residual while sliding and frozen in presliding and at rest.
 //! - [`BreakAwayDetector`]: online break-away detection under a rising force
 //!   command; keeps measured (k, F_ba) pairs
 //!   ([break-away predictor](crate::model_overview#break-away-predictor)) in
@@ -27,7 +26,6 @@
 //! | [`Feedforward`] | u_ff = clamp(gain·(θ·H + σ·v), ±limit) from (x_ref, v_ref) through the presliding state machine: at a reversal the force swings along g(w) over z_max of travel instead of stepping by 2·Fc | [presliding](crate::model_overview#presliding) |
 //! | [`DisturbanceObserver`] | r = Q(u − m_n·Δv/T − u_ff), Q a first-order low pass of bandwidth g: the force the feedforward does not explain | [plant](crate::model_overview#plant) |
 //! | [`LevelAdaptation`] | θ ← clamp(θ + γ·T·r/H, θ_min, θ_max): one scale on Fc and Fs, frozen in presliding and below `min_speed` | [Stribeck curve](crate::model_overview#stribeck-curve), `drift` |
-//! | [`SplitLevelAdaptation`] | (θc, θs) on Fc and Fs separately, regressors Fc·(1 − e(v)), Fs·e(v) through the observer's low pass, least squares with forgetting, bounded, Fs·θs ≥ Fc·θc; feed `params()` to a new `Model` | [Stribeck curve](crate::model_overview#stribeck-curve), `drift` |
 //! | [`BreakAwayDetector<N>`](BreakAwayDetector) | least-squares k of a rising \|u\| at rest, break-away when \|v\| > `break_away_speed`, (k, F_ba, t_ba, predicted) in a `heapless::Deque` of N | [break-away predictor](crate::model_overview#break-away-predictor) |
 //! | `hal::PwmForce` (feature `hal`) | force → `embedded_hal::pwm::SetDutyCycle`, `Centered` (50 % = 0 N) or `Magnitude` (+ direction), saturating at ±F_full | – |
 //!
@@ -77,8 +75,6 @@
 //! assert!(u_ff.to_f32() * units.force > 0.5); // N
 //! # Ok::<(), breakaway::ParamError>(())
 //! ```
-//!
-//! [`SplitLevelAdaptation`] is `f32` only.
 
 // Arithmetic here is on the generic number type `T`, whose operators are
 // total by the `Scalar` contract (IEEE `f32`; saturating `Q16`): no panic, no
@@ -90,9 +86,7 @@ mod detection;
 mod feedforward;
 mod observer;
 
-pub use adaptation::{
-    AdaptationConfig, LevelAdaptation, SplitLevelAdaptation, SPLIT_REGULARISATION,
-};
+pub use adaptation::{AdaptationConfig, LevelAdaptation};
 pub use detection::{Accumulate, BreakAwayDetector, DetectorConfig, Measurement};
 pub use feedforward::{Feedforward, FeedforwardConfig};
 pub use observer::{DisturbanceObserver, ObserverConfig};
