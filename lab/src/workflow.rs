@@ -6,7 +6,7 @@ use crate::data::{self, Record};
 use crate::diagnose::{self, Options};
 use crate::fit::{self, FitOptions, Prepared};
 use crate::progress::Progress;
-use crate::reference::Model;
+use crate::reference::{Effect, Model};
 use crate::synth::{self, Noise, SynthSpec};
 use crate::{emit, Error};
 use std::io::Write;
@@ -82,7 +82,7 @@ pub enum Command {
         /// Fitted model output.
         model_out: Option<PathBuf>,
         /// Candidate filter.
-        candidates: Vec<String>,
+        candidates: Vec<Effect>,
         /// SG half-width (`None`: chosen from the data, [`fit::auto_window`]).
         window: Option<usize>,
     },
@@ -239,21 +239,13 @@ pub fn parse(args: &[String]) -> Result<Command, Error> {
     };
     match sub {
         "diagnose" => {
-            let candidates: Vec<String> = match get("--candidates") {
+            let candidates: Vec<Effect> = match get("--candidates") {
                 None => Vec::new(),
-                Some(s) => {
-                    let mut v = Vec::new();
-                    for c in s.split(',').map(str::trim) {
-                        if !fit::CATALOGUE.contains(&c) {
-                            return Err(usage(format!(
-                                "--candidates: unknown effect `{c}` (expected {})",
-                                fit::CATALOGUE.join(", ")
-                            )));
-                        }
-                        v.push(c.to_string());
-                    }
-                    v
-                }
+                Some(s) => s
+                    .split(',')
+                    .map(|c| c.trim().parse::<Effect>())
+                    .collect::<Result<_, _>>()
+                    .map_err(|e| usage(format!("--candidates: {e}")))?,
             };
             Ok(Command::Diagnose {
                 data: one_data(&positional)?,
@@ -282,24 +274,9 @@ pub fn parse(args: &[String]) -> Result<Command, Error> {
             if let Some(p) = positional.first() {
                 return Err(usage(format!("unexpected argument `{p}`; see --help")));
             }
-            let effects: Vec<String> = match get("--effect") {
+            let effects = match get("--effect") {
                 None => Vec::new(),
-                Some(s) if s.trim() == "none" => Vec::new(),
-                Some(s) => {
-                    let mut v: Vec<String> = Vec::new();
-                    for e in s.split(',').map(str::trim) {
-                        if !synth::HIDEABLE.contains(&e) {
-                            return Err(usage(format!(
-                                "--effect: unknown effect `{e}` (expected {} or none)",
-                                synth::HIDEABLE.join(", ")
-                            )));
-                        }
-                        if !v.iter().any(|x| x == e) {
-                            v.push(e.to_string());
-                        }
-                    }
-                    v
-                }
+                Some(s) => synth::parse_hidden(&s).map_err(|e| usage(format!("--effect: {e}")))?,
             };
             let seed = match get("--seed") {
                 None => 1,
@@ -412,7 +389,8 @@ pub fn run(cmd: Command, out: &mut dyn Write) -> Result<(), Error> {
                     if spec.effects.is_empty() {
                         "none".to_string()
                     } else {
-                        spec.effects.join(",")
+                        let names: Vec<&str> = spec.effects.iter().map(|e| e.name()).collect();
+                        names.join(",")
                     },
                     spec.seed,
                     spec.noise.name(),
@@ -467,7 +445,7 @@ pub fn run(cmd: Command, out: &mut dyn Write) -> Result<(), Error> {
                     "metric": diagnose::METRIC,
                     "rms_train": train,
                     "rms_held_out": held,
-                    "effects": fit::effects_of(&res.model),
+                    "effects": fit::effects_of(&res.model).iter().map(|e| e.name()).collect::<Vec<_>>(),
                     "model": diagnose::model_json(&res.model),
                 });
                 format!("{}\n", serde_json::to_string_pretty(&v).unwrap_or_default())
