@@ -21,6 +21,10 @@
 //! All the logic lives here so it can be tested; `main.rs` only maps
 //! [`Error`] to a one-line message and an exit code.
 
+// Units in brackets (`[m]`, `[N]`) are not intra-doc links (as in the
+// reference crate); the `--help` texts of `cli` are doc comments too.
+#![allow(rustdoc::broken_intra_doc_links)]
+
 pub mod cli;
 pub mod closed_loop;
 pub mod commands;
