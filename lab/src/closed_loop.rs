@@ -413,20 +413,6 @@ pub fn run(
     })
 }
 
-/// The usage of `closed-loop`.
-pub const USAGE: &str = "\
-breakaway-lab closed-loop [--json] [--svg FILE]
-
-  PID position loop tracking x_ref = A*(1 - cos 2*pi*f*t) (A = 1 mm, f = 1 Hz) on a LuGre plant
-  and on a MODEL.md plant 20-30 % off the compensator, with the compensators none, coulomb,
-  stribeck, presliding, presliding_observer; figures over t in [5 s, 8 s]: rms_error [m],
-  peak_reversal_error [m] (peak |e| within 50 ms after each reversal), rms_effort [N].
-  Also the drift runs (plant Fc, or Fc and Fs, +20 % at t = 2 s).
-
-  --json       JSON array of objects {plant, compensator, rms_error, peak_reversal_error, rms_effort}
-  --svg FILE   also write the tracking error around the reversal at t = 6 s as an SVG plot
-";
-
 /// Every run of the benchmark, in table order: both plants with all
 /// compensators, then the drift runs with `presliding` and
 /// `presliding_observer`.
@@ -638,35 +624,19 @@ pub fn to_svg(rows: &[Figures]) -> String {
     svg
 }
 
-/// `breakaway-lab closed-loop [--json] [--svg FILE]`.
-pub fn command(args: &[String], out: &mut dyn std::io::Write) -> Result<(), crate::Error> {
+/// `breakaway-lab closed-loop`: the benchmark as a table or JSON, and
+/// optionally the SVG plot.
+pub fn command(
+    args: &crate::cli::ClosedLoopArgs,
+    out: &mut dyn std::io::Write,
+) -> Result<(), crate::Error> {
     use crate::Error;
-    let (mut json, mut svg) = (false, None::<String>);
-    let mut it = args.iter();
-    while let Some(arg) = it.next() {
-        match arg.as_str() {
-            "--json" if !json => json = true,
-            "--svg" if svg.is_none() => {
-                svg = Some(
-                    it.next()
-                        .cloned()
-                        .ok_or_else(|| Error::Usage("--svg: missing value".into()))?,
-                );
-            }
-            "-h" | "--help" => return crate::emit(out, USAGE),
-            other => {
-                return Err(Error::Usage(format!(
-                    "closed-loop: unexpected argument `{other}`; see closed-loop --help"
-                )))
-            }
-        }
-    }
     let rows = benchmark().map_err(Error::Runtime)?;
-    if let Some(path) = svg {
-        std::fs::write(&path, to_svg(&rows))
-            .map_err(|e| Error::Runtime(format!("writing {path}: {e}")))?;
+    if let Some(path) = &args.svg {
+        std::fs::write(path, to_svg(&rows))
+            .map_err(|e| Error::Runtime(format!("writing {}: {e}", path.display())))?;
     }
-    let text = if json {
+    let text = if args.json {
         to_json(&rows)
     } else {
         to_table(&rows)

@@ -23,8 +23,8 @@ use crate::data::Record;
 use crate::fit::{self, FitOptions, Param, Prepared};
 use crate::progress::Progress;
 use crate::reference::{
-    Asymmetry, Drift, DwellStiction, Effects, Friction, FrictionalLag, Model, NonlinearViscous,
-    Offset, PositionRipple,
+    Asymmetry, Drift, DwellStiction, Effect, Effects, Friction, FrictionalLag, Model,
+    NonlinearViscous, Offset, PositionRipple,
 };
 use std::f64::consts::PI;
 
@@ -65,11 +65,16 @@ pub fn gain_above_floor(before: f64, after: f64, floor: f64) -> f64 {
 }
 
 /// The gain a candidate must reach.
-pub fn required_gain(effect: &str) -> f64 {
+pub fn required_gain(effect: Effect) -> f64 {
     let p = match effect {
-        "position_ripple" | "dwell_stiction" | "stribeck" => 3.0,
-        "nonlinear_viscous" => 2.0,
-        _ => 1.0,
+        Effect::PositionRipple | Effect::DwellStiction | Effect::Stribeck => 3.0,
+        Effect::NonlinearViscous => 2.0,
+        Effect::Viscous
+        | Effect::Offset
+        | Effect::Asymmetry
+        | Effect::FrictionalLag
+        | Effect::Drift
+        | Effect::Presliding => 1.0,
     };
     ACCEPT_GAIN.max(p * ACCEPT_GAIN_PER_PARAM)
 }
@@ -82,8 +87,8 @@ pub const MAX_ROUNDS: usize = 4;
 pub struct Options {
     /// Savitzky–Golay half-width.
     pub half_width: usize,
-    /// Candidate effects considered (catalogue names); all when empty.
-    pub candidates: Vec<String>,
+    /// Candidate effects considered; all when empty.
+    pub candidates: Vec<Effect>,
 }
 
 impl Default for Options {
@@ -98,8 +103,8 @@ impl Default for Options {
 /// A candidate tried in one round.
 #[derive(Clone, Debug)]
 pub struct Candidate {
-    /// Catalogue name.
-    pub effect: String,
+    /// The effect.
+    pub effect: Effect,
     /// Weighted held-out RMS after adding and refitting [N] (noise and
     /// resolution included; the same weights for every candidate).
     pub rms: f64,
@@ -112,8 +117,8 @@ pub struct Candidate {
 /// One accepted effect.
 #[derive(Clone, Debug)]
 pub struct Step {
-    /// Catalogue name.
-    pub effect: String,
+    /// The effect.
+    pub effect: Effect,
     /// Model error before [N] (held-out, above the floor).
     pub rms_before: f64,
     /// Model error after [N].
@@ -189,17 +194,17 @@ pub struct Report {
     pub still: (usize, usize),
     /// Parts of the start structure dropped as not identifiable, with the
     /// reason (e.g. `stribeck`: V at its bound).
-    pub dropped: Vec<(String, String)>,
+    pub dropped: Vec<(Effect, String)>,
     /// Accepted steps.
     pub steps: Vec<Step>,
     /// The last round's candidates (none accepted).
     pub last_round: Vec<Candidate>,
-    /// Effects dropped by the backward pass: (name, held-out model error
+    /// Effects dropped by the backward pass: (effect, held-out model error
     /// without it, with it) [N].
-    pub pruned: Vec<(String, f64, f64)>,
+    pub pruned: Vec<(Effect, f64, f64)>,
     /// Effects replaced by a runner-up in the swap pass: (taken, replaced
     /// by, model error before, after) [N].
-    pub swapped: Vec<(String, String, f64, f64)>,
+    pub swapped: Vec<(Effect, Effect, f64, f64)>,
     /// Where the residual concentrates before the first step.
     pub regions: Vec<Region>,
     /// RMS per regime before the first step.
@@ -535,7 +540,7 @@ fn shift_levels(m: &mut Model, level: f64) {
 }
 
 /// Starting models for adding `effect` to `m` (refitted from each).
-fn candidate_starts(p: &Prepared, m: &Model, effect: &str, r: &[f64]) -> Vec<Model> {
+fn candidate_starts(p: &Prepared, m: &Model, effect: Effect, r: &[f64]) -> Vec<Model> {
     let mut out = Vec::new();
     let t_span = (p.t[p.len() - 1] - p.t[0]).max(1e-9);
     let with = |f: &dyn Fn(&mut Model)| {
@@ -544,7 +549,7 @@ fn candidate_starts(p: &Prepared, m: &Model, effect: &str, r: &[f64]) -> Vec<Mod
         c
     };
     match effect {
-        "viscous" => {
+        Effect::Viscous => {
             let v_max = p.v.iter().fold(1e-12f64, |a, v| a.max(v.abs()));
             let s = regress(p, r, &p.v).max(1e-3 * m.fc / v_max);
             out.push(with(&|c| c.sigma = s));
@@ -554,7 +559,7 @@ fn candidate_starts(p: &Prepared, m: &Model, effect: &str, r: &[f64]) -> Vec<Mod
                 shift_levels(c, level);
             }));
         }
-        "nonlinear_viscous" => {
+        Effect::NonlinearViscous => {
             let v_max = p.v.iter().fold(1e-12f64, |a, v| a.max(v.abs()));
             for n in [0.3, 0.6, 1.5, 2.0] {
                 let s: Vec<f64> = p.v.iter().map(|v| v.signum() * v.abs().powf(n)).collect();
@@ -571,19 +576,19 @@ fn candidate_starts(p: &Prepared, m: &Model, effect: &str, r: &[f64]) -> Vec<Mod
                 }));
             }
         }
-        "offset" => {
+        Effect::Offset => {
             let one = vec![1.0; p.len()];
             let f0 = regress(p, r, &one);
             out.push(with(&|c| c.effects.offset = Some(Offset { f0 })));
         }
-        "asymmetry" => {
+        Effect::Asymmetry => {
             let h = dry_force(p, m);
             let a = (regress(p, r, &h)).clamp(-0.5, 0.5);
             for a0 in [a, 0.1, -0.1] {
                 out.push(with(&|c| c.effects.asymmetry = Some(Asymmetry { a: a0 })));
             }
         }
-        "position_ripple" => {
+        Effect::PositionRipple => {
             let (lam, c1, c2, _) = ripple_scan(p, r, true);
             out.push(with(&|c| {
                 c.effects.position_ripple = Some(PositionRipple {
@@ -593,8 +598,8 @@ fn candidate_starts(p: &Prepared, m: &Model, effect: &str, r: &[f64]) -> Vec<Mod
                 })
             }));
         }
-        "dwell_stiction" => out.extend(dwell_starts(p, m, r)),
-        "frictional_lag" => {
+        Effect::DwellStiction => out.extend(dwell_starts(p, m, r)),
+        Effect::FrictionalLag => {
             // Lag and the Stribeck shape trade off (a base model fitted
             // without lag bends V, δ to mimic it), so the shape restarts too.
             // It may even have dropped the Stribeck dip (V → 0): restart
@@ -604,7 +609,7 @@ fn candidate_starts(p: &Prepared, m: &Model, effect: &str, r: &[f64]) -> Vec<Mod
                 out.push(with(&|c| {
                     c.effects.frictional_lag = Some(FrictionalLag { tau_l })
                 }));
-                if fit::has_effect(m, "stribeck") {
+                if fit::has_effect(m, Effect::Stribeck) {
                     out.push(with(&|c| {
                         c.effects.frictional_lag = Some(FrictionalLag { tau_l });
                         c.delta = 2.0;
@@ -614,13 +619,13 @@ fn candidate_starts(p: &Prepared, m: &Model, effect: &str, r: &[f64]) -> Vec<Mod
                 }
             }
         }
-        "drift" => {
+        Effect::Drift => {
             let h = dry_force(p, m);
             let ht: Vec<f64> = h.iter().zip(&p.t).map(|(h, t)| h * (t - p.t[0])).collect();
             let beta = regress(p, r, &ht).clamp(-1.0 / t_span, 1.0 / t_span);
             out.push(with(&|c| c.effects.drift = Some(Drift { beta })));
         }
-        "stribeck" => {
+        Effect::Stribeck => {
             for vf in [0.3, 1.0, 3.0] {
                 out.push(with(&|c| {
                     c.fs = 1.3 * c.fc;
@@ -628,12 +633,11 @@ fn candidate_starts(p: &Prepared, m: &Model, effect: &str, r: &[f64]) -> Vec<Mod
                 }));
             }
         }
-        "presliding" => {
+        Effect::Presliding => {
             for zf in [10.0, 40.0, 160.0, 640.0] {
                 out.push(with(&|c| c.z_max = zf * p.resolution));
             }
         }
-        _ => {}
     }
     // A base model that used δ at the edge of its range to mimic the
     // missing effect is also restarted from δ = 2.
@@ -671,7 +675,7 @@ fn dwell_starts(p: &Prepared, m: &Model, r: &[f64]) -> Vec<Model> {
             v_rests.push(v);
         }
     }
-    let stribeck = fit::has_effect(m, "stribeck");
+    let stribeck = fit::has_effect(m, Effect::Stribeck);
     let train: Vec<usize> = p.valid().filter(|&i| !p.held_out[i]).collect();
     let f0 = p.friction(m);
     let h = 0.1 * m.fc;
@@ -793,8 +797,8 @@ pub const NESTED_GAP_GAIN: f64 = 0.1;
 /// gap, not on the raw rms: where noise and resolution dominate the rms,
 /// a fixed share of it would hide an exponent the data clearly show.
 fn prefer_nested(cands: &mut [Candidate], floor: f64) {
-    let pos = |name: &str| cands.iter().position(|c| c.effect == name);
-    if let (Some(0), Some(v)) = (pos("nonlinear_viscous"), pos("viscous")) {
+    let pos = |effect: Effect| cands.iter().position(|c| c.effect == effect);
+    if let (Some(0), Some(v)) = (pos(Effect::NonlinearViscous), pos(Effect::Viscous)) {
         let general = fit::model_error(cands[0].rms, floor);
         let nested = fit::model_error(cands[v].rms, floor);
         if general > (1.0 - NESTED_GAP_GAIN) * nested {
@@ -842,14 +846,16 @@ pub const KEEP_GAIN: f64 = 0.01;
 /// RMS: the record needs the shape, only not at an interior value.
 pub const DEGENERATE_KEEP: f64 = 0.1;
 
-/// Why the part `name` of `m` (a catalogue effect, `stribeck` or
-/// `presliding`) is degenerate — a parameter at a bound of its range or at
-/// a value the record cannot resolve — or `None`.
-pub fn degenerate(p: &Prepared, m: &Model, name: &str) -> Option<String> {
+/// Why the part `effect` of `m` (a catalogue effect, `stribeck` or
+/// `presliding` included) is degenerate — a parameter at a bound of its
+/// range or at a value the record cannot resolve — or `None`.
+pub fn degenerate(p: &Prepared, m: &Model, effect: Effect) -> Option<String> {
     let near = |x: f64, bound: f64| (x / bound).ln().abs() < 0.02;
-    match name {
-        "stribeck" if fit::has_effect(m, name) => {
-            if m.v_stribeck < p.v_rest {
+    match effect {
+        Effect::Stribeck => {
+            if !fit::has_effect(m, effect) {
+                None
+            } else if m.v_stribeck < p.v_rest {
                 Some(format!(
                     "V = {:.3e} m/s is below the slowest speed the encoder resolves ({:.3e} m/s)",
                     m.v_stribeck, p.v_rest
@@ -862,22 +868,28 @@ pub fn degenerate(p: &Prepared, m: &Model, name: &str) -> Option<String> {
                 None
             }
         }
-        "presliding" if fit::has_effect(m, name) => (m.z_max < 1.5 * p.resolution).then(|| {
-            format!(
-                "z_max = {:.3e} m is below 1.5 encoder counts ({:.3e} m)",
-                m.z_max, p.resolution
-            )
-        }),
-        "dwell_stiction" => m.effects.dwell_stiction.and_then(|d| {
+        Effect::Presliding => {
+            (fit::has_effect(m, effect) && m.z_max < 1.5 * p.resolution).then(|| {
+                format!(
+                    "z_max = {:.3e} m is below 1.5 encoder counts ({:.3e} m)",
+                    m.z_max, p.resolution
+                )
+            })
+        }
+        Effect::DwellStiction => m.effects.dwell_stiction.and_then(|d| {
             (near(d.gamma, 5e-3) || near(d.gamma, 100.0))
                 .then(|| format!("gamma = {} s at a bound", d.gamma))
         }),
-        "nonlinear_viscous" => nonlinear_viscous_degenerate(m),
-        "frictional_lag" => m.effects.frictional_lag.and_then(|l| {
+        Effect::NonlinearViscous => nonlinear_viscous_degenerate(m),
+        Effect::FrictionalLag => m.effects.frictional_lag.and_then(|l| {
             (near(l.tau_l, 1e-3) || near(l.tau_l, 100.0))
                 .then(|| format!("tau_l = {} s at a bound", l.tau_l))
         }),
-        _ => None,
+        Effect::Viscous
+        | Effect::Offset
+        | Effect::Asymmetry
+        | Effect::PositionRipple
+        | Effect::Drift => None,
     }
 }
 
@@ -909,9 +921,9 @@ fn simplify(
     mut m: Model,
     by_rms: bool,
     progress: &mut dyn FnMut(&str),
-) -> (Model, Vec<(String, String)>) {
+) -> (Model, Vec<(Effect, String)>) {
     let mut dropped = Vec::new();
-    for part in ["stribeck", "presliding"] {
+    for part in [Effect::Stribeck, Effect::Presliding] {
         if !fit::has_effect(&m, part) || (!by_rms && degenerate(p, &m, part).is_none()) {
             continue;
         }
@@ -934,7 +946,7 @@ fn simplify(
             }),
         };
         if let Some(why) = reason {
-            dropped.push((part.to_string(), why));
+            dropped.push((part, why));
             m = refit;
         }
     }
@@ -945,49 +957,51 @@ fn simplify(
 /// written as neutral, physical values (as [`remove_effect`] does), never
 /// as what a fit left (EMPS: `V = 1.7e-22`, δ at its bound).
 fn tidy(p: &Prepared, m: Model) -> Model {
-    if fit::has_effect(&m, "stribeck") {
+    if fit::has_effect(&m, Effect::Stribeck) {
         m
     } else {
-        remove_effect(&m, "stribeck", p)
+        remove_effect(&m, Effect::Stribeck, p)
     }
 }
 
-/// `m` without the catalogue effect `name`.
-fn remove_effect(m: &Model, name: &str, p: &Prepared) -> Model {
+/// `m` without the catalogue effect `effect`.
+fn remove_effect(m: &Model, effect: Effect, p: &Prepared) -> Model {
     let mut c = m.clone();
     let e = &mut c.effects;
-    match name {
-        "viscous" => c.sigma = 0.0,
-        "offset" => e.offset = None,
-        "asymmetry" => e.asymmetry = None,
-        "position_ripple" => e.position_ripple = None,
-        "dwell_stiction" => e.dwell_stiction = None,
-        "frictional_lag" => e.frictional_lag = None,
-        "drift" => e.drift = None,
-        "nonlinear_viscous" => e.nonlinear_viscous = None,
-        "stribeck" => {
+    match effect {
+        Effect::Viscous => c.sigma = 0.0,
+        Effect::Offset => e.offset = None,
+        Effect::Asymmetry => e.asymmetry = None,
+        Effect::PositionRipple => e.position_ripple = None,
+        Effect::DwellStiction => e.dwell_stiction = None,
+        Effect::FrictionalLag => e.frictional_lag = None,
+        Effect::Drift => e.drift = None,
+        Effect::NonlinearViscous => e.nonlinear_viscous = None,
+        Effect::Stribeck => {
             // Fs = Fc marks the absence (MODEL.md §7); V and δ then have no
             // effect and are written as neutral, physical values.
             c.fs = c.fc;
             c.v_stribeck = low_speed(p).unwrap_or(1e-3);
             c.delta = 1.0;
         }
-        "presliding" => c.z_max = 0.0,
-        _ => {}
+        Effect::Presliding => c.z_max = 0.0,
     }
     c
 }
 
 /// The signal that localises each effect (for the report and the plot).
-pub fn signal_of(effect: &str) -> &'static str {
+pub fn signal_of(effect: Effect) -> &'static str {
     match effect {
-        "viscous" | "nonlinear_viscous" | "offset" | "asymmetry" | "stribeck"
-        | "frictional_lag" => "velocity",
-        "position_ripple" => "position",
-        "dwell_stiction" => "rest time before motion",
-        "drift" => "time",
-        "presliding" => "time since turning point",
-        _ => "time",
+        Effect::Viscous
+        | Effect::NonlinearViscous
+        | Effect::Offset
+        | Effect::Asymmetry
+        | Effect::Stribeck
+        | Effect::FrictionalLag => "velocity",
+        Effect::PositionRipple => "position",
+        Effect::DwellStiction => "rest time before motion",
+        Effect::Drift => "time",
+        Effect::Presliding => "time since turning point",
     }
 }
 
@@ -1245,11 +1259,11 @@ pub fn diagnose(
     show("refitting with error weights");
     let params = fit::params_of(&model);
     model = fit::fit(&p, &model, &params, &FitOptions::default(), &mut |_| {}).model;
-    if start.is_none() && degenerate(&p, &model, "stribeck").is_some() {
+    if start.is_none() && degenerate(&p, &model, Effect::Stribeck).is_some() {
         // A local minimum with V → 0 or δ at a bound: restart the shape
         // from the data's low speeds before calling Stribeck absent.
         let starts = restarts(&p, &model);
-        let sound = |m: &Model| degenerate(&p, m, "stribeck").is_none();
+        let sound = |m: &Model| degenerate(&p, m, Effect::Stribeck).is_none();
         let again = fit_multistart(&p, &starts, &sound, &mut |s| {
             show(&format!("restarting the base fit ({s})"))
         });
@@ -1269,53 +1283,52 @@ pub fn diagnose(
     let regions = regions_of(&p, &r, &labels, 8);
     let series = signal_series(&p, &model);
     let signals = localise_signals(&p, &r, &series);
-    let allowed = |e: &str| opts.candidates.is_empty() || opts.candidates.iter().any(|c| c == e);
+    let allowed = |e: Effect| opts.candidates.is_empty() || opts.candidates.contains(&e);
     let mut steps = Vec::new();
     let mut last_round = Vec::new();
     for round in 0..MAX_ROUNDS {
-        let names: Vec<&str> = fit::CATALOGUE
-            .iter()
-            .copied()
-            .filter(|e| !fit::has_effect(&model, e) && allowed(e))
+        let missing: Vec<Effect> = Effect::ALL
+            .into_iter()
+            .filter(|&e| !fit::has_effect(&model, e) && allowed(e))
             .filter(|e| !dropped.iter().any(|(d, _)| d == e))
             .collect();
         let mut cands = Vec::new();
         let n_cur = fit::params_of(&model).len();
         let bic_cur = bic(&p, rms, n_cur);
-        for (ci, name) in names.iter().enumerate() {
-            let starts = candidate_starts(&p, &model, name, &r);
+        for (ci, &effect) in missing.iter().enumerate() {
+            let starts = candidate_starts(&p, &model, effect, &r);
             if starts.is_empty() {
                 continue;
             }
             let label = format!(
-                "round {}: candidate {}/{} {name}",
+                "round {}: candidate {}/{} {effect}",
                 round + 1,
                 ci + 1,
-                names.len()
+                missing.len()
             );
-            let sound = |m: &Model| degenerate(&p, m, name).is_none();
+            let sound = |m: &Model| degenerate(&p, m, effect).is_none();
             let fitted = fit_multistart(&p, &starts, &sound, &mut |s| {
                 show(&format!("{label} ({s})"))
             });
-            if !fit::has_effect(&fitted, name) {
+            if !fit::has_effect(&fitted, effect) {
                 continue;
             }
             // Dwell *time* stiction must make the break-away depend on the
             // rest length; a γ far below every rest of the record only
             // separates "after a rest" from "after a reversal" (the
             // look-alike of MODEL.md §4's rate dependence).
-            if *name == "dwell_stiction" && dwell_spread(&p, &fitted) < MIN_DWELL_SPREAD {
+            if effect == Effect::DwellStiction && dwell_spread(&p, &fitted) < MIN_DWELL_SPREAD {
                 continue;
             }
             // A fit that ran to a bound of its parameters has not found
             // the effect (or has found a simpler structure).
-            if degenerate(&p, &fitted, name).is_some() {
+            if degenerate(&p, &fitted, effect).is_some() {
                 continue;
             }
             let (c_rms, _) = held_rms(&p, &fitted);
             let score = bic(&p, c_rms, fit::params_of(&fitted).len()) - bic_cur;
             cands.push(Candidate {
-                effect: (*name).to_string(),
+                effect,
                 rms: c_rms,
                 score,
                 model: fitted,
@@ -1324,21 +1337,21 @@ pub fn diagnose(
         cands.sort_by(|a, b| a.score.total_cmp(&b.score));
         prefer_nested(&mut cands, floor);
         let accept = cands.first().is_some_and(|c| {
-            c.score < 0.0 && gain_above_floor(rms, c.rms, floor) >= required_gain(&c.effect)
+            c.score < 0.0 && gain_above_floor(rms, c.rms, floor) >= required_gain(c.effect)
         });
         if !accept {
             last_round = cands;
             break;
         }
         let best = cands[0].clone();
-        let sig_name = signal_of(&best.effect);
+        let sig_name = signal_of(best.effect);
         let sig = localise_signals(&p, &r, &signal_series(&p, &model))
             .into_iter()
             .find(|(n, _)| n == sig_name)
             .unwrap_or((sig_name.to_string(), 0.0));
         let (new_rms, new_r) = held_rms(&p, &best.model);
         steps.push(Step {
-            effect: best.effect.clone(),
+            effect: best.effect,
             rms_before: fit::model_error(rms, floor),
             rms_after: fit::model_error(new_rms, floor),
             score: best.score,
@@ -1359,15 +1372,15 @@ pub fn diagnose(
     if steps.len() > 1 {
         let mut k = 0;
         while k < steps.len() && steps.len() > 1 {
-            let name = steps[k].effect.clone();
-            show(&format!("backward check: {name}"));
-            let without = remove_effect(&model, &name, &p);
+            let effect = steps[k].effect;
+            show(&format!("backward check: {effect}"));
+            let without = remove_effect(&model, effect, &p);
             let params = fit::params_of(&without);
             let refit = fit::fit(&p, &without, &params, &FitOptions::default(), &mut |_| {}).model;
             let (w_rms, w_r) = held_rms(&p, &refit);
-            if gain_above_floor(w_rms, rms, floor) < required_gain(&name) {
+            if gain_above_floor(w_rms, rms, floor) < required_gain(effect) {
                 pruned.push((
-                    name,
+                    effect,
                     fit::model_error(w_rms, floor),
                     fit::model_error(rms, floor),
                 ));
@@ -1388,26 +1401,26 @@ pub fn diagnose(
     let mut swapped = Vec::new();
     if steps.len() > 1 {
         for step in steps.iter_mut() {
-            let name = step.effect.clone();
-            let alts: Vec<String> = step
+            let effect = step.effect;
+            let alts: Vec<Effect> = step
                 .candidates
                 .iter()
                 .skip(1)
                 .take(2)
-                .map(|c| c.effect.clone())
-                .filter(|c| !fit::has_effect(&model, c))
+                .map(|c| c.effect)
+                .filter(|&c| !fit::has_effect(&model, c))
                 .collect();
             if alts.is_empty() {
                 continue;
             }
-            show(&format!("swap check: {name}"));
-            let without = remove_effect(&model, &name, &p);
+            show(&format!("swap check: {effect}"));
+            let without = remove_effect(&model, effect, &p);
             let params = fit::params_of(&without);
             let base = fit::fit(&p, &without, &params, &FitOptions::default(), &mut |_| {}).model;
             let base_r = p.residual(&base);
             let bic_cur = bic(&p, rms, fit::params_of(&model).len());
-            let mut best: Option<(f64, String, Model)> = None;
-            for alt in &alts {
+            let mut best: Option<(f64, Effect, Model)> = None;
+            for &alt in &alts {
                 let starts = candidate_starts(&p, &base, alt, &base_r);
                 if starts.is_empty() {
                     continue;
@@ -1420,14 +1433,14 @@ pub fn diagnose(
                 let a_rms = held_rms(&p, &fitted).0;
                 let b = bic(&p, a_rms, fit::params_of(&fitted).len());
                 if b < bic_cur && best.as_ref().is_none_or(|(bb, _, _)| b < *bb) {
-                    best = Some((b, alt.clone(), fitted));
+                    best = Some((b, alt, fitted));
                 }
             }
             if let Some((_, alt, m)) = best {
                 let (new_rms, new_r) = held_rms(&p, &m);
                 swapped.push((
-                    name,
-                    alt.clone(),
+                    effect,
+                    alt,
                     fit::model_error(rms, floor),
                     fit::model_error(new_rms, floor),
                 ));
@@ -1491,48 +1504,45 @@ pub fn model_json(m: &Model) -> serde_json::Value {
     o
 }
 
+/// The effects of `m` with a table under `[effects]` (MODEL.md §7; the
+/// others are keys of the model itself), by name.
 fn effect_params_all(m: &Model) -> serde_json::Map<String, serde_json::Value> {
     let mut map = serde_json::Map::new();
-    for name in [
-        "offset",
-        "asymmetry",
-        "position_ripple",
-        "dwell_stiction",
-        "frictional_lag",
-        "drift",
-        "nonlinear_viscous",
-    ] {
-        if fit::has_effect(m, name) {
-            map.insert(name.into(), effect_params(m, name));
+    for effect in Effect::ALL {
+        let top_level = matches!(
+            effect,
+            Effect::Viscous | Effect::Stribeck | Effect::Presliding
+        );
+        if !top_level && fit::has_effect(m, effect) {
+            map.insert(effect.name().into(), effect_params(m, effect));
         }
     }
     map
 }
 
 /// The fitted parameters of one effect (MODEL.md §7 names).
-pub fn effect_params(m: &Model, name: &str) -> serde_json::Value {
+pub fn effect_params(m: &Model, effect: Effect) -> serde_json::Value {
     let e = &m.effects;
     use serde_json::json;
-    match name {
-        "viscous" => json!({"sigma": m.sigma}),
-        "stribeck" => json!({"fs": m.fs, "v_stribeck": m.v_stribeck, "delta": m.delta}),
-        "presliding" => json!({"z_max": m.z_max}),
-        "offset" => json!({"f0": e.offset.map(|o| o.f0)}),
-        "asymmetry" => json!({"a": e.asymmetry.map(|a| a.a)}),
-        "position_ripple" => e.position_ripple.map_or(
+    match effect {
+        Effect::Viscous => json!({"sigma": m.sigma}),
+        Effect::Stribeck => json!({"fs": m.fs, "v_stribeck": m.v_stribeck, "delta": m.delta}),
+        Effect::Presliding => json!({"z_max": m.z_max}),
+        Effect::Offset => json!({"f0": e.offset.map(|o| o.f0)}),
+        Effect::Asymmetry => json!({"a": e.asymmetry.map(|a| a.a)}),
+        Effect::PositionRipple => e.position_ripple.map_or(
             json!({}),
             |r| json!({"amplitude": r.amplitude, "wavelength": r.wavelength, "phase": r.phase}),
         ),
-        "dwell_stiction" => e.dwell_stiction.map_or(
+        Effect::DwellStiction => e.dwell_stiction.map_or(
             json!({}),
             |d| json!({"delta_fs": d.delta_fs, "gamma": d.gamma, "v_rest": d.v_rest}),
         ),
-        "frictional_lag" => json!({"tau_l": e.frictional_lag.map(|l| l.tau_l)}),
-        "drift" => json!({"beta": e.drift.map(|d| d.beta)}),
-        "nonlinear_viscous" => e
+        Effect::FrictionalLag => json!({"tau_l": e.frictional_lag.map(|l| l.tau_l)}),
+        Effect::Drift => json!({"beta": e.drift.map(|d| d.beta)}),
+        Effect::NonlinearViscous => e
             .nonlinear_viscous
             .map_or(json!({}), |nv| json!({"sigma_n": nv.sigma_n, "n": nv.n})),
-        _ => json!({}),
     }
 }
 
@@ -1544,19 +1554,19 @@ pub fn report_json(rep: &Report) -> String {
         .iter()
         .map(|s| {
             json!({
-                "effect": s.effect,
-                "params": effect_params(&s.model, &s.effect),
+                "effect": s.effect.name(),
+                "params": effect_params(&s.model, s.effect),
                 "rms_before": s.rms_before,
                 "rms_after": s.rms_after,
                 "score": s.score,
                 "signal": s.signal.0,
                 "signal_explained": s.signal.1,
-                "candidates": s.candidates.iter().map(|c| json!({"effect": c.effect, "rms": c.rms, "score": c.score})).collect::<Vec<_>>(),
+                "candidates": s.candidates.iter().map(|c| json!({"effect": c.effect.name(), "rms": c.rms, "score": c.score})).collect::<Vec<_>>(),
             })
         })
         .collect();
     let v = json!({
-        "effects_added": rep.steps.iter().map(|s| s.effect.clone()).collect::<Vec<_>>(),
+        "effects_added": rep.steps.iter().map(|s| s.effect.name()).collect::<Vec<_>>(),
         "metric": METRIC,
         "rms_before": rep.rms_before,
         "rms_after": rep.rms_after,
@@ -1568,14 +1578,14 @@ pub fn report_json(rep: &Report) -> String {
         "floor_explains": if rep.raw_after > 0.0 { (rep.floor / rep.raw_after).powi(2).min(1.0) } else { 1.0 },
         "still_samples": rep.still.0,
         "valid_samples": rep.still.1,
-        "dropped": rep.dropped.iter().map(|(n, why)| json!({"part": n, "reason": why})).collect::<Vec<_>>(),
+        "dropped": rep.dropped.iter().map(|(n, why)| json!({"part": n.name(), "reason": why})).collect::<Vec<_>>(),
         "regions": rep.regions.iter().map(|r| json!({"regime": r.regime, "t_start": r.t_start, "t_end": r.t_end, "rms": r.rms})).collect::<Vec<_>>(),
         "regimes": rep.regimes.iter().map(|r| json!({"regime": r.regime, "n": r.n, "rms": r.rms})).collect::<Vec<_>>(),
         "signals": rep.signals.iter().map(|(n, f)| json!({"signal": n, "explained": f})).collect::<Vec<_>>(),
         "steps": steps,
-        "swapped": rep.swapped.iter().map(|(a, b, before, after)| json!({"effect": a, "replaced_by": b, "rms_before": before, "rms_after": after})).collect::<Vec<_>>(),
-        "pruned": rep.pruned.iter().map(|(n, without, with)| json!({"effect": n, "rms_without": without, "rms_with": with})).collect::<Vec<_>>(),
-        "rejected": rep.last_round.iter().map(|c| json!({"effect": c.effect, "rms": c.rms, "score": c.score})).collect::<Vec<_>>(),
+        "swapped": rep.swapped.iter().map(|(a, b, before, after)| json!({"effect": a.name(), "replaced_by": b.name(), "rms_before": before, "rms_after": after})).collect::<Vec<_>>(),
+        "pruned": rep.pruned.iter().map(|(n, without, with)| json!({"effect": n.name(), "rms_without": without, "rms_with": with})).collect::<Vec<_>>(),
+        "rejected": rep.last_round.iter().map(|c| json!({"effect": c.effect.name(), "rms": c.rms, "score": c.score})).collect::<Vec<_>>(),
         "accept_gain": ACCEPT_GAIN,
         "start_model": model_json(&rep.start),
         "model": model_json(&rep.model),
@@ -1681,11 +1691,7 @@ pub fn report_text(rep: &Report, source: &str) -> String {
         if !others.is_empty() {
             let _ = writeln!(s, "        next best: {}", others.join(", "));
         }
-        let _ = writeln!(
-            s,
-            "        fitted: {}",
-            effect_params(&st.model, &st.effect)
-        );
+        let _ = writeln!(s, "        fitted: {}", effect_params(&st.model, st.effect));
     }
     if rep.steps.is_empty() {
         let _ = writeln!(s, "no effect is missing: no candidate lowers the held-out rms by {:.0} % with a better BIC", 100.0 * ACCEPT_GAIN);
@@ -1726,7 +1732,7 @@ pub fn report_text(rep: &Report, source: &str) -> String {
             short(c.score, 4)
         );
     }
-    let added: Vec<&str> = rep.steps.iter().map(|s| s.effect.as_str()).collect();
+    let added: Vec<&str> = rep.steps.iter().map(|s| s.effect.name()).collect();
     let _ = writeln!(s, "effects added: [{}]", added.join(", "));
     let m = &rep.model;
     let _ = writeln!(

@@ -42,8 +42,8 @@
 //! differences (one pass along the record each).
 
 use crate::reference::{
-    Asymmetry, Drift, DwellStiction, Friction, FrictionalLag, Model, NonlinearViscous, Offset,
-    PositionRipple,
+    Asymmetry, Drift, DwellStiction, Effect, Friction, FrictionalLag, Model, NonlinearViscous,
+    Offset, PositionRipple,
 };
 use std::f64::consts::PI;
 
@@ -757,57 +757,41 @@ pub enum Param {
 /// `0 < n <= 2`).
 pub const NV_EXP_RANGE: (f64, f64) = (0.05, 2.0);
 
-/// The catalogue names of MODEL.md §5 that a model may lack.
-pub const CATALOGUE: [&str; 10] = [
-    "viscous",
-    "nonlinear_viscous",
-    "offset",
-    "asymmetry",
-    "position_ripple",
-    "dwell_stiction",
-    "frictional_lag",
-    "drift",
-    "stribeck",
-    "presliding",
-];
-
 /// Which effects of §5 a model has.
-pub fn has_effect(m: &Model, name: &str) -> bool {
+pub fn has_effect(m: &Model, effect: Effect) -> bool {
     let e = &m.effects;
-    match name {
-        "viscous" => m.sigma > 0.0,
-        "offset" => e.offset.is_some(),
-        "asymmetry" => e.asymmetry.is_some(),
-        "position_ripple" => e.position_ripple.is_some(),
-        "dwell_stiction" => e.dwell_stiction.is_some(),
-        "frictional_lag" => e.frictional_lag.is_some(),
-        "drift" => e.drift.is_some(),
-        "nonlinear_viscous" => e.nonlinear_viscous.is_some(),
-        "stribeck" => m.fs > m.fc,
-        "presliding" => m.z_max > 0.0,
-        _ => false,
+    match effect {
+        Effect::Viscous => m.sigma > 0.0,
+        Effect::Offset => e.offset.is_some(),
+        Effect::Asymmetry => e.asymmetry.is_some(),
+        Effect::PositionRipple => e.position_ripple.is_some(),
+        Effect::DwellStiction => e.dwell_stiction.is_some(),
+        Effect::FrictionalLag => e.frictional_lag.is_some(),
+        Effect::Drift => e.drift.is_some(),
+        Effect::NonlinearViscous => e.nonlinear_viscous.is_some(),
+        Effect::Stribeck => m.fs > m.fc,
+        Effect::Presliding => m.z_max > 0.0,
     }
 }
 
-/// The names of the effects `m` has, in catalogue order.
-pub fn effects_of(m: &Model) -> Vec<&'static str> {
-    CATALOGUE
-        .iter()
-        .copied()
-        .filter(|n| has_effect(m, n))
+/// The effects `m` has, in catalogue order ([`Effect::ALL`]).
+pub fn effects_of(m: &Model) -> Vec<Effect> {
+    Effect::ALL
+        .into_iter()
+        .filter(|&e| has_effect(m, e))
         .collect()
 }
 
 /// The free parameters of a model's structure (mass and Fc always).
 pub fn params_of(m: &Model) -> Vec<Param> {
     let mut p = vec![Param::Mass, Param::Fc];
-    if has_effect(m, "stribeck") {
+    if has_effect(m, Effect::Stribeck) {
         p.extend([Param::FsExcess, Param::VStribeck, Param::Delta]);
     }
-    if has_effect(m, "presliding") {
+    if has_effect(m, Effect::Presliding) {
         p.push(Param::ZMax);
     }
-    if has_effect(m, "viscous") {
+    if has_effect(m, Effect::Viscous) {
         p.push(Param::Sigma);
     }
     let e = &m.effects;

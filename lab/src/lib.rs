@@ -11,12 +11,21 @@
 //!   quasi-static prediction holds: the relative drift against the full
 //!   dynamics, the inertia number `Λ` of MODEL.md §4 and the number `Π` of
 //!   MODEL.md §8.
+//! * `closed-loop` — friction compensators in a position loop
+//!   ([`closed_loop`]).
+//! * `diagnose`, `fit`, `validate`, `synth`, `static-curve` — the
+//!   discrepancy workflow ([`workflow`]).
 //!
+//! The command line (options, defaults, value ranges, help) is [`cli`].
 //! Model files are TOML as in MODEL.md §7 (read by `breakaway_reference`).
 //! All the logic lives here so it can be tested; `main.rs` only maps
 //! [`Error`] to a one-line message and an exit code.
 
-pub mod args;
+// Units in brackets (`[m]`, `[N]`) are not intra-doc links (as in the
+// reference crate); the `--help` texts of `cli` are doc comments too.
+#![allow(rustdoc::broken_intra_doc_links)]
+
+pub mod cli;
 pub mod closed_loop;
 pub mod commands;
 pub mod data;
@@ -79,36 +88,46 @@ pub fn one_line(msg: &str) -> String {
 }
 
 /// Runs the command line `args` (without the program name), writing the
-/// result to `out`.
+/// result to `out`. `--help` writes the help to `out`; a parse error is
+/// [`Error::Usage`] with clap's message on one line.
 pub fn run(args: &[String], out: &mut dyn Write) -> Result<(), Error> {
-    if let Some(("closed-loop", rest)) = args.split_first().map(|(a, r)| (a.as_str(), r)) {
-        return closed_loop::command(rest, out);
-    }
-    if let Some(result) = workflow::dispatch(args, out) {
-        return result;
-    }
-    match args::parse(args)? {
-        args::Command::Help => emit(out, args::USAGE),
-        args::Command::Breakaway(a) => {
+    let cli = match cli::parse(args) {
+        Ok(cli) => cli,
+        Err(e) if !e.use_stderr() => {
+            let help = e.to_string();
+            return emit(out, &format!("{}\n", help.trim_end()));
+        }
+        Err(e) => return Err(Error::Usage(cli::one_line_error(&e))),
+    };
+    match cli.command {
+        cli::Command::Breakaway(a) => {
             let model = commands::load_model(&a.model)?;
-            let rows = commands::breakaway_rows(&model, &a.k, &a.variants, a.w_b, a.dynamic)?;
-            let text = match a.format {
-                args::Format::Json => format::breakaway_json(&rows),
-                args::Format::Markdown => format::breakaway_markdown(&rows, &a.variants),
-                args::Format::Table => format::breakaway_table(&rows, a.dynamic),
+            let w_b = a.boundary.w_b;
+            let rows = commands::breakaway_rows(&model, &a.k, &a.variants, w_b, a.dynamic)?;
+            let text = match a.output.format() {
+                cli::Format::Json => format::breakaway_json(&rows),
+                cli::Format::Markdown => format::breakaway_markdown(&rows, &a.variants),
+                cli::Format::Table => format::breakaway_table(&rows, a.dynamic),
             };
             emit(out, &text)
         }
-        args::Command::ValidityMap(a) => {
+        cli::Command::ValidityMap(a) => {
             let model = commands::load_model(&a.model)?;
-            let blocks = commands::validity_map(&model, &a.masses, &a.k, &a.variants, a.w_b)?;
-            let text = match a.format {
-                args::Format::Json => format::validity_json(&blocks),
-                args::Format::Markdown => format::validity_markdown(&blocks, &a.variants, a.w_b),
-                args::Format::Table => format::validity_table(&blocks, &a.variants, a.w_b),
+            let w_b = a.boundary.w_b;
+            let blocks = commands::validity_map(&model, &a.masses, &a.k, &a.variants, w_b)?;
+            let text = match a.output.format() {
+                cli::Format::Json => format::validity_json(&blocks),
+                cli::Format::Markdown => format::validity_markdown(&blocks, &a.variants, w_b),
+                cli::Format::Table => format::validity_table(&blocks, &a.variants, w_b),
             };
             emit(out, &text)
         }
+        cli::Command::ClosedLoop(a) => closed_loop::command(&a, out),
+        cli::Command::Diagnose(a) => workflow::diagnose(a, out),
+        cli::Command::Fit(a) => workflow::fit(a, out),
+        cli::Command::Validate(a) => workflow::validate(a, out),
+        cli::Command::Synth(a) => workflow::synth(a, out),
+        cli::Command::StaticCurve(a) => workflow::static_curve(a, out),
     }
 }
 

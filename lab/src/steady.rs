@@ -24,7 +24,7 @@
 
 use crate::diagnose::{self, required_gain};
 use crate::fit::{self, FitOptions, Param, Residuals};
-use crate::reference::{stribeck, Asymmetry, Effects, Model, NonlinearViscous, Offset};
+use crate::reference::{stribeck, Asymmetry, Effect, Effects, Model, NonlinearViscous, Offset};
 use crate::static_curve::Point;
 use crate::Error;
 use std::path::Path;
@@ -34,7 +34,12 @@ use std::path::Path;
 pub const NOISE_FACTOR: f64 = 1.5;
 
 /// The effects a steady-state record can show, in the order tried.
-pub const STEADY_CANDIDATES: [&str; 4] = ["viscous", "nonlinear_viscous", "offset", "asymmetry"];
+pub const STEADY_CANDIDATES: [Effect; 4] = [
+    Effect::Viscous,
+    Effect::NonlinearViscous,
+    Effect::Offset,
+    Effect::Asymmetry,
+];
 
 /// The free parameters of `m`'s structure on a steady-state record: those
 /// of the record fit ([`fit::params_of`]) without the mass and `z_max`,
@@ -243,8 +248,8 @@ fn base(rec: &SteadyRecord) -> Model {
 /// One accepted effect of a steady-state diagnosis.
 #[derive(Clone, Debug)]
 pub struct SteadyStep {
-    /// Catalogue name.
-    pub effect: String,
+    /// The effect.
+    pub effect: Effect,
     /// Held-out RMS before [N] (N·m).
     pub rms_before: f64,
     /// Held-out RMS after.
@@ -253,8 +258,8 @@ pub struct SteadyStep {
     pub score: f64,
     /// The model after the step.
     pub model: Model,
-    /// Every candidate of the round: (name, held-out RMS, BIC change).
-    pub candidates: Vec<(String, f64, f64)>,
+    /// Every candidate of the round: (effect, held-out RMS, BIC change).
+    pub candidates: Vec<(Effect, f64, f64)>,
 }
 
 /// The result of [`diagnose_steady`].
@@ -271,25 +276,27 @@ pub struct SteadyReport {
     /// Accepted steps.
     pub steps: Vec<SteadyStep>,
     /// The last round's candidates (none accepted).
-    pub rejected: Vec<(String, f64, f64)>,
+    pub rejected: Vec<(Effect, f64, f64)>,
     /// Base parts dropped, with the reason.
-    pub dropped: Vec<(String, String)>,
+    pub dropped: Vec<(Effect, String)>,
     /// The final model.
     pub model: Model,
     /// Noise of one reading [N] (N·m) ([`SteadyRecord::noise`]).
     pub noise: f64,
 }
 
-fn with_effect(m: &Model, name: &str, rec: &SteadyRecord) -> Vec<Model> {
+/// Starting models for adding `effect` to `m` (none for an effect that a
+/// steady-state curve does not show, see [`STEADY_CANDIDATES`]).
+fn with_effect(m: &Model, effect: Effect, rec: &SteadyRecord) -> Vec<Model> {
     let v_max = rec.points.iter().fold(1e-12f64, |a, p| a.max(p.v.abs()));
     let mut out = Vec::new();
     let mut c = m.clone();
-    match name {
-        "viscous" => {
+    match effect {
+        Effect::Viscous => {
             c.sigma = 0.1 * m.fc / v_max;
             out.push(c);
         }
-        "nonlinear_viscous" => {
+        Effect::NonlinearViscous => {
             for n in [0.3, 0.6, 1.5] {
                 let mut c = m.clone();
                 c.effects.nonlinear_viscous = Some(NonlinearViscous {
@@ -299,31 +306,43 @@ fn with_effect(m: &Model, name: &str, rec: &SteadyRecord) -> Vec<Model> {
                 out.push(c);
             }
         }
-        "offset" => {
+        Effect::Offset => {
             c.effects.offset = Some(Offset { f0: 0.0 });
             out.push(c);
         }
-        "asymmetry" => {
+        Effect::Asymmetry => {
             for a in [0.1, -0.1] {
                 let mut c = m.clone();
                 c.effects.asymmetry = Some(Asymmetry { a });
                 out.push(c);
             }
         }
-        _ => {}
+        Effect::PositionRipple
+        | Effect::DwellStiction
+        | Effect::FrictionalLag
+        | Effect::Drift
+        | Effect::Stribeck
+        | Effect::Presliding => {}
     }
     out
 }
 
-/// Why `name` in `m` is degenerate on this record, or `None`.
-fn degenerate(m: &Model, name: &str) -> Option<String> {
+/// Why `effect` in `m` is degenerate on this record, or `None`.
+fn degenerate(m: &Model, effect: Effect) -> Option<String> {
     let near = |x: f64, b: f64| (x / b).ln().abs() < 0.02;
-    match name {
-        "nonlinear_viscous" => diagnose::nonlinear_viscous_degenerate(m),
-        "stribeck" if fit::has_effect(m, "stribeck") => (near(m.delta, fit::DELTA_RANGE.0)
-            || near(m.delta, fit::DELTA_RANGE.1))
+    match effect {
+        Effect::NonlinearViscous => diagnose::nonlinear_viscous_degenerate(m),
+        Effect::Stribeck => (fit::has_effect(m, effect)
+            && (near(m.delta, fit::DELTA_RANGE.0) || near(m.delta, fit::DELTA_RANGE.1)))
         .then(|| format!("delta = {:.4} at a bound of its range", m.delta)),
-        _ => None,
+        Effect::Viscous
+        | Effect::Offset
+        | Effect::Asymmetry
+        | Effect::PositionRipple
+        | Effect::DwellStiction
+        | Effect::FrictionalLag
+        | Effect::Drift
+        | Effect::Presliding => None,
     }
 }
 
@@ -331,11 +350,11 @@ fn degenerate(m: &Model, name: &str) -> Option<String> {
 pub fn diagnose_steady(rec: &SteadyRecord) -> SteadyReport {
     let mut model = base(rec);
     let mut dropped = Vec::new();
-    if let Some(why) = degenerate(&model, "stribeck") {
+    if let Some(why) = degenerate(&model, Effect::Stribeck) {
         let mut c = model.clone();
         c.fs = c.fc;
         model = fit_steady(rec, &tidy(rec, c));
-        dropped.push(("stribeck".to_string(), why));
+        dropped.push((Effect::Stribeck, why));
     }
     let start = model.clone();
     let noise = rec.noise();
@@ -347,35 +366,34 @@ pub fn diagnose_steady(rec: &SteadyRecord) -> SteadyReport {
     let mut rejected = Vec::new();
     for _ in 0..diagnose::MAX_ROUNDS {
         let bic_cur = bic(rms, params_of(&model).len());
-        let mut cands: Vec<(String, f64, f64, Model)> = Vec::new();
-        for name in STEADY_CANDIDATES {
-            if fit::has_effect(&model, name) {
+        let mut cands: Vec<(Effect, f64, f64, Model)> = Vec::new();
+        for effect in STEADY_CANDIDATES {
+            if fit::has_effect(&model, effect) {
                 continue;
             }
-            let best = with_effect(&model, name, rec)
+            let best = with_effect(&model, effect, rec)
                 .iter()
                 .map(|s| fit_steady(rec, s))
-                .filter(|m| degenerate(m, name).is_none())
+                .filter(|m| degenerate(m, effect).is_none())
                 .min_by(|a, b| rec.rms(a, false).total_cmp(&rec.rms(b, false)));
             if let Some(m) = best {
                 let r = rec.rms(&m, true);
                 let score = bic(r, params_of(&m).len()) - bic_cur;
-                cands.push((name.to_string(), r, score, m));
+                cands.push((effect, r, score, m));
             }
         }
         cands.sort_by(|a, b| a.2.total_cmp(&b.2));
-        let summary: Vec<(String, f64, f64)> =
-            cands.iter().map(|c| (c.0.clone(), c.1, c.2)).collect();
+        let summary: Vec<(Effect, f64, f64)> = cands.iter().map(|c| (c.0, c.1, c.2)).collect();
         match cands.into_iter().next() {
             // Nothing is missing where the curve already fits to the noise
             // of the readings (1.5 σ: a 5 % gain there is chance).
-            Some((name, r, score, m))
+            Some((effect, r, score, m))
                 if score < 0.0
-                    && r <= (1.0 - required_gain(&name)) * rms
+                    && r <= (1.0 - required_gain(effect)) * rms
                     && rms > NOISE_FACTOR * noise =>
             {
                 steps.push(SteadyStep {
-                    effect: name,
+                    effect,
                     rms_before: rms,
                     rms_after: r,
                     score,
@@ -452,25 +470,25 @@ pub fn report_json(rep: &SteadyReport) -> String {
         .iter()
         .map(|s| {
             json!({
-                "effect": s.effect,
-                "params": diagnose::effect_params(&s.model, &s.effect),
+                "effect": s.effect.name(),
+                "params": diagnose::effect_params(&s.model, s.effect),
                 "rms_before": s.rms_before,
                 "rms_after": s.rms_after,
                 "score": s.score,
-                "candidates": s.candidates.iter().map(|c| json!({"effect": c.0, "rms": c.1, "score": c.2})).collect::<Vec<_>>(),
+                "candidates": s.candidates.iter().map(|c| json!({"effect": c.0.name(), "rms": c.1, "score": c.2})).collect::<Vec<_>>(),
             })
         })
         .collect();
     let v = json!({
         "kind": "steady_state",
-        "effects_added": rep.steps.iter().map(|s| s.effect.clone()).collect::<Vec<_>>(),
+        "effects_added": rep.steps.iter().map(|s| s.effect.name()).collect::<Vec<_>>(),
         "metric": "held-out RMS of F_measured - F(v) over the points with index 2, 5, 8 mod 10 (steady-state record: no dynamics; floor = the readings' noise from second differences over neighbouring speeds); mass and z_max are not identifiable from it",
         "rms_before": rep.rms_before,
         "rms_after": rep.rms_after,
         "floor": rep.noise,
         "steps": steps,
-        "rejected": rep.rejected.iter().map(|c| json!({"effect": c.0, "rms": c.1, "score": c.2})).collect::<Vec<_>>(),
-        "dropped": rep.dropped.iter().map(|(n, why)| json!({"part": n, "reason": why})).collect::<Vec<_>>(),
+        "rejected": rep.rejected.iter().map(|c| json!({"effect": c.0.name(), "rms": c.1, "score": c.2})).collect::<Vec<_>>(),
+        "dropped": rep.dropped.iter().map(|(n, why)| json!({"part": n.name(), "reason": why})).collect::<Vec<_>>(),
         "start_model": diagnose::model_json(&rep.start),
         "model": diagnose::model_json(&rep.model),
         "samples": rep.n,
@@ -507,10 +525,10 @@ pub fn report_text(rep: &SteadyReport, source: &str) -> String {
             short(st.rms_before, 4),
             short(st.rms_after, 4),
             100.0 * (st.rms_before - st.rms_after) / st.rms_before,
-            diagnose::effect_params(&st.model, &st.effect)
+            diagnose::effect_params(&st.model, st.effect)
         );
     }
-    let added: Vec<&str> = rep.steps.iter().map(|s| s.effect.as_str()).collect();
+    let added: Vec<&str> = rep.steps.iter().map(|s| s.effect.name()).collect();
     let _ = writeln!(
         s,
         "effects added: [{}]; gap {} -> {}",

@@ -25,24 +25,49 @@
 
 use crate::data::Record;
 use crate::reference::{
-    Asymmetry, Drift, DwellStiction, Effects, Friction, FrictionalLag, Model, NonlinearViscous,
-    Offset, PositionRipple,
+    Asymmetry, Drift, DwellStiction, Effect, Effects, Friction, FrictionalLag, Model,
+    NonlinearViscous, Offset, PositionRipple,
 };
 use crate::Error;
 use std::f64::consts::PI;
 
-/// The effects `synth` can hide (the catalogue of MODEL.md §5 without
-/// `stribeck` and `presliding`, which the base model always has).
-pub const HIDEABLE: [&str; 8] = [
-    "viscous",
-    "nonlinear_viscous",
-    "offset",
-    "asymmetry",
-    "position_ripple",
-    "dwell_stiction",
-    "frictional_lag",
-    "drift",
-];
+/// Whether `synth` can hide `effect`: every effect of the catalogue of
+/// MODEL.md §5 but `stribeck` and `presliding`, which the base model always
+/// has.
+pub fn hideable(effect: Effect) -> bool {
+    !matches!(effect, Effect::Stribeck | Effect::Presliding)
+}
+
+/// Parses a list of hidden effects: `none`, or names of [`hideable`]
+/// effects separated by commas (repeats count once). The error names the
+/// item at fault.
+pub fn parse_hidden(list: &str) -> Result<Vec<Effect>, String> {
+    if list.trim() == "none" {
+        return Ok(Vec::new());
+    }
+    let mut out = Vec::new();
+    for name in list.split(',').map(str::trim) {
+        let effect = name
+            .parse::<Effect>()
+            .ok()
+            .filter(|&e| hideable(e))
+            .ok_or_else(|| {
+                let names: Vec<&str> = Effect::ALL
+                    .into_iter()
+                    .filter(|&e| hideable(e))
+                    .map(Effect::name)
+                    .collect();
+                format!(
+                    "unknown effect `{name}` (expected {} or none)",
+                    names.join(", ")
+                )
+            })?;
+        if !out.contains(&effect) {
+            out.push(effect);
+        }
+    }
+    Ok(out)
+}
 
 /// Measurement noise level.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -75,8 +100,9 @@ impl Noise {
 /// What to generate.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SynthSpec {
-    /// Hidden effects (names of [`HIDEABLE`]).
-    pub effects: Vec<String>,
+    /// Hidden effects ([`hideable`] ones; `stribeck` and `presliding` are
+    /// in every base model).
+    pub effects: Vec<Effect>,
     /// Seed of every random choice.
     pub seed: u64,
     /// Noise level.
@@ -148,7 +174,7 @@ const RAMP_ONSET: f64 = 0.05;
 /// Nominal record length used to scale `drift` [s].
 const NOMINAL_SPAN: f64 = 15.0;
 
-/// The truth model of `spec`; errors name an unknown effect.
+/// The truth model of `spec`; an error names the invalid parameter.
 pub fn truth_model(spec: &SynthSpec) -> Result<Model, Error> {
     let mut rng = Rng::new(spec.seed.wrapping_mul(31).wrapping_add(7));
     let jitter = |rng: &mut Rng| rng.range(0.9, 1.1);
@@ -185,28 +211,28 @@ pub fn truth_model(spec: &SynthSpec) -> Result<Model, Error> {
     m.z_max *= jitter(&mut rng);
     let fc = m.fc;
     let v_stribeck = m.v_stribeck;
-    for name in &spec.effects {
+    for &effect in &spec.effects {
         let e = &mut m.effects;
-        match name.as_str() {
-            "viscous" => m.sigma = rng.range(0.25, 0.4) * fc / 0.05,
-            "offset" => {
+        match effect {
+            Effect::Viscous => m.sigma = rng.range(0.25, 0.4) * fc / 0.05,
+            Effect::Offset => {
                 e.offset = Some(Offset {
                     f0: rng.sign() * rng.range(0.1, 0.2) * fc,
                 })
             }
-            "asymmetry" => {
+            Effect::Asymmetry => {
                 e.asymmetry = Some(Asymmetry {
                     a: rng.sign() * rng.range(0.1, 0.2),
                 })
             }
-            "position_ripple" => {
+            Effect::PositionRipple => {
                 e.position_ripple = Some(PositionRipple {
                     amplitude: rng.range(0.08, 0.15) * fc,
                     wavelength: rng.range(2e-3, 4e-3),
                     phase: rng.range(0.0, 2.0 * PI),
                 })
             }
-            "dwell_stiction" => {
+            Effect::DwellStiction => {
                 e.dwell_stiction = Some(DwellStiction {
                     delta_fs: rng.range(0.5, 0.8) * fc,
                     gamma: rng.range(0.2, 0.5),
@@ -220,17 +246,17 @@ pub fn truth_model(spec: &SynthSpec) -> Result<Model, Error> {
                     v_rest: 0.05 * v_stribeck,
                 })
             }
-            "frictional_lag" => {
+            Effect::FrictionalLag => {
                 e.frictional_lag = Some(FrictionalLag {
                     tau_l: rng.range(0.02, 0.05),
                 })
             }
-            "drift" => {
+            Effect::Drift => {
                 e.drift = Some(Drift {
                     beta: rng.sign() * rng.range(0.2, 0.3) / NOMINAL_SPAN,
                 })
             }
-            "nonlinear_viscous" => {
+            Effect::NonlinearViscous => {
                 // Concave or convex strengthening, never near n = 1.
                 let n = if rng.sign() > 0.0 {
                     rng.range(0.4, 0.7)
@@ -242,13 +268,7 @@ pub fn truth_model(spec: &SynthSpec) -> Result<Model, Error> {
                     n,
                 })
             }
-            "stribeck" | "presliding" => {} // always in the base model
-            other => {
-                return Err(Error::Usage(format!(
-                    "--effect: unknown effect `{other}` (expected {} or none)",
-                    HIDEABLE.join(", ")
-                )))
-            }
+            Effect::Stribeck | Effect::Presliding => {} // always in the base model
         }
     }
     m.validate()

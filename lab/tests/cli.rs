@@ -178,7 +178,7 @@ fn validity_map_json() {
 #[test]
 fn usage_errors_exit_2() {
     let m = fig5();
-    fails(&[], 2, &["sub-command"]);
+    fails(&[], 2, &["subcommand"]);
     fails(&["breakaway", "--model", &m], 2, &["--k"]);
     fails(&["breakaway", "--k", "1"], 2, &["--model"]);
     fails(

@@ -11,25 +11,32 @@
 use breakaway_lab::diagnose::{self, Options};
 use breakaway_lab::progress::Progress;
 use breakaway_lab::synth::{self, Noise, SynthSpec};
+use breakaway_reference::Effect;
 
-const SINGLES: [&str; 7] = [
-    "viscous",
-    "offset",
-    "asymmetry",
-    "position_ripple",
-    "dwell_stiction",
-    "frictional_lag",
-    "drift",
+const SINGLES: [Effect; 7] = [
+    Effect::Viscous,
+    Effect::Offset,
+    Effect::Asymmetry,
+    Effect::PositionRipple,
+    Effect::DwellStiction,
+    Effect::FrictionalLag,
+    Effect::Drift,
 ];
-const PAIRS: [[&str; 2]; 3] = [
-    ["offset", "position_ripple"],
-    ["viscous", "drift"],
-    ["asymmetry", "frictional_lag"],
+const PAIRS: [[Effect; 2]; 3] = [
+    [Effect::Offset, Effect::PositionRipple],
+    [Effect::Viscous, Effect::Drift],
+    [Effect::Asymmetry, Effect::FrictionalLag],
 ];
+
+/// The names of `effects`, joined by `sep`.
+fn join(effects: &[Effect], sep: &str) -> String {
+    let names: Vec<&str> = effects.iter().map(|e| e.name()).collect();
+    names.join(sep)
+}
 
 struct Row {
     spec: SynthSpec,
-    named: Vec<String>,
+    named: Vec<Effect>,
     before: f64,
     after: f64,
 }
@@ -48,14 +55,14 @@ impl Row {
 }
 
 fn cases(configs: &[(usize, Noise, u64)]) -> Vec<SynthSpec> {
-    let mut sets: Vec<Vec<&str>> = vec![vec![]];
+    let mut sets: Vec<Vec<Effect>> = vec![vec![]];
     sets.extend(SINGLES.iter().map(|s| vec![*s]));
     sets.extend(PAIRS.iter().map(|p| p.to_vec()));
     let mut out = Vec::new();
     for &(set, noise, seed) in configs {
         for (k, e) in sets.iter().enumerate() {
             out.push(SynthSpec {
-                effects: e.iter().map(|s| s.to_string()).collect(),
+                effects: e.clone(),
                 seed: seed * 100 + k as u64,
                 noise,
                 set,
@@ -85,7 +92,7 @@ fn run_all(specs: Vec<SynthSpec>) -> Vec<Row> {
                                 &mut Progress::quiet(),
                             );
                             Row {
-                                named: rep.steps.iter().map(|s| s.effect.clone()).collect(),
+                                named: rep.steps.iter().map(|s| s.effect).collect(),
                                 before: rep.rms_before,
                                 after: rep.rms_after,
                                 spec,
@@ -114,12 +121,12 @@ fn summarise(rows: &[Row]) -> (f64, usize, f64) {
         let hidden = if r.spec.effects.is_empty() {
             "none".to_string()
         } else {
-            r.spec.effects.join(" + ")
+            join(&r.spec.effects, " + ")
         };
         let named = if r.named.is_empty() {
             "—".to_string()
         } else {
-            r.named.join(", ")
+            join(&r.named, ", ")
         };
         println!(
             "| {hidden} | {} | {} | {} | {named} | {} | {:.4} | {:.4} | {:.0} % |",

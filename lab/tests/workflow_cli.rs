@@ -199,7 +199,7 @@ fn bad_csv_input() {
         &["fit", &tmp("nope.csv").to_string_lossy()],
         &["nope.csv", "cannot read"],
     );
-    fails(&["fit", "--model"], &["--model", "missing value"]);
+    fails(&["fit", "--model"], &["--model", "a value is required"]);
     fails(&["diagnose", "a.csv", "--candidates", "magic"], &["magic"]);
     fails(
         &["synth", "--effect", "magic", "--out", "x.csv"],

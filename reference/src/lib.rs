@@ -5,6 +5,7 @@
 //! on it. Sections of MODEL.md:
 //!
 //! * [`model`] — parameters, validation, TOML model files (§2, §3, §5, §7);
+//! * [`effect`] — the names of the effect catalogue (§5);
 //! * [`curves`] — Stribeck curve `S`, `F_ss` and presliding shape `g` (§2, §3);
 //! * [`presliding`] — the one-turning-point presliding state machine (§3);
 //! * [`friction`] — friction with the effect catalogue composed (§5);
@@ -18,6 +19,7 @@
 #![allow(rustdoc::broken_intra_doc_links)]
 
 pub mod curves;
+pub mod effect;
 pub mod friction;
 pub mod model;
 pub mod predict;
@@ -25,6 +27,7 @@ pub mod presliding;
 pub mod sim;
 
 pub use curves::{shape, steady_state, stribeck};
+pub use effect::{Effect, UnknownEffect};
 pub use friction::Friction;
 pub use model::{
     Asymmetry, Drift, DwellStiction, Effects, FrictionalLag, Model, ModelError, NonlinearViscous,

@@ -10,6 +10,7 @@
 //! `effects.asymmetry.a`). Writing uses Rust's shortest round-trip float
 //! formatting, so a written file reads back bit-exact.
 
+use crate::effect::Effect;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
@@ -291,18 +292,15 @@ impl Model {
         };
         if let Some(effects) = top.table("effects")? {
             let mut er = Reader::new("effects.", effects);
-            if let Some(t) = er.table("offset")? {
-                let mut r = Reader::new("effects.offset.", t);
+            if let Some(mut r) = er.effect(Effect::Offset)? {
                 model.effects.offset = Some(Offset { f0: r.float("f0")? });
                 r.finish()?;
             }
-            if let Some(t) = er.table("asymmetry")? {
-                let mut r = Reader::new("effects.asymmetry.", t);
+            if let Some(mut r) = er.effect(Effect::Asymmetry)? {
                 model.effects.asymmetry = Some(Asymmetry { a: r.float("a")? });
                 r.finish()?;
             }
-            if let Some(t) = er.table("position_ripple")? {
-                let mut r = Reader::new("effects.position_ripple.", t);
+            if let Some(mut r) = er.effect(Effect::PositionRipple)? {
                 model.effects.position_ripple = Some(PositionRipple {
                     amplitude: r.float("amplitude")?,
                     wavelength: r.float("wavelength")?,
@@ -310,8 +308,7 @@ impl Model {
                 });
                 r.finish()?;
             }
-            if let Some(t) = er.table("dwell_stiction")? {
-                let mut r = Reader::new("effects.dwell_stiction.", t);
+            if let Some(mut r) = er.effect(Effect::DwellStiction)? {
                 model.effects.dwell_stiction = Some(DwellStiction {
                     delta_fs: r.float("delta_fs")?,
                     gamma: r.float("gamma")?,
@@ -319,22 +316,19 @@ impl Model {
                 });
                 r.finish()?;
             }
-            if let Some(t) = er.table("frictional_lag")? {
-                let mut r = Reader::new("effects.frictional_lag.", t);
+            if let Some(mut r) = er.effect(Effect::FrictionalLag)? {
                 model.effects.frictional_lag = Some(FrictionalLag {
                     tau_l: r.float("tau_l")?,
                 });
                 r.finish()?;
             }
-            if let Some(t) = er.table("drift")? {
-                let mut r = Reader::new("effects.drift.", t);
+            if let Some(mut r) = er.effect(Effect::Drift)? {
                 model.effects.drift = Some(Drift {
                     beta: r.float("beta")?,
                 });
                 r.finish()?;
             }
-            if let Some(t) = er.table("nonlinear_viscous")? {
-                let mut r = Reader::new("effects.nonlinear_viscous.", t);
+            if let Some(mut r) = er.effect(Effect::NonlinearViscous)? {
                 model.effects.nonlinear_viscous = Some(NonlinearViscous {
                     sigma_n: r.float("sigma_n")?,
                     n: r.float("n")?,
@@ -354,6 +348,9 @@ impl Model {
     /// every valid `m`.
     pub fn to_toml_string(&self) -> String {
         let mut s = String::new();
+        let header = |s: &mut String, effect: Effect| {
+            s.push_str(&format!("\n[effects.{}]\n", effect.name()));
+        };
         let kv = |s: &mut String, key: &str, v: f64, comment: &str| {
             let val = fmt_float(v);
             if comment.is_empty() {
@@ -377,35 +374,35 @@ impl Model {
         );
         let e = &self.effects;
         if let Some(o) = &e.offset {
-            s.push_str("\n[effects.offset]\n");
+            header(&mut s, Effect::Offset);
             kv(&mut s, "f0", o.f0, "[N]");
         }
         if let Some(a) = &e.asymmetry {
-            s.push_str("\n[effects.asymmetry]\n");
+            header(&mut s, Effect::Asymmetry);
             kv(&mut s, "a", a.a, "");
         }
         if let Some(r) = &e.position_ripple {
-            s.push_str("\n[effects.position_ripple]\n");
+            header(&mut s, Effect::PositionRipple);
             kv(&mut s, "amplitude", r.amplitude, "[N]");
             kv(&mut s, "wavelength", r.wavelength, "[m]");
             kv(&mut s, "phase", r.phase, "[rad]");
         }
         if let Some(d) = &e.dwell_stiction {
-            s.push_str("\n[effects.dwell_stiction]\n");
+            header(&mut s, Effect::DwellStiction);
             kv(&mut s, "delta_fs", d.delta_fs, "[N]");
             kv(&mut s, "gamma", d.gamma, "[s]");
             kv(&mut s, "v_rest", d.v_rest, "[m/s]");
         }
         if let Some(l) = &e.frictional_lag {
-            s.push_str("\n[effects.frictional_lag]\n");
+            header(&mut s, Effect::FrictionalLag);
             kv(&mut s, "tau_l", l.tau_l, "[s]");
         }
         if let Some(d) = &e.drift {
-            s.push_str("\n[effects.drift]\n");
+            header(&mut s, Effect::Drift);
             kv(&mut s, "beta", d.beta, "[1/s]");
         }
         if let Some(nv) = &e.nonlinear_viscous {
-            s.push_str("\n[effects.nonlinear_viscous]\n");
+            header(&mut s, Effect::NonlinearViscous);
             kv(&mut s, "sigma_n", nv.sigma_n, "[N*(s/m)^n]");
             kv(&mut s, "n", nv.n, "");
         }
@@ -447,15 +444,15 @@ pub(crate) fn fmt_float(v: f64) -> String {
 
 /// Strict reader of one TOML table: tracks the keys used.
 struct Reader<'a> {
-    prefix: &'static str,
+    prefix: String,
     table: &'a toml::Table,
     used: Vec<&'static str>,
 }
 
 impl<'a> Reader<'a> {
-    fn new(prefix: &'static str, table: &'a toml::Table) -> Self {
+    fn new(prefix: impl Into<String>, table: &'a toml::Table) -> Self {
         Reader {
-            prefix,
+            prefix: prefix.into(),
             table,
             used: Vec::new(),
         }
@@ -491,6 +488,12 @@ impl<'a> Reader<'a> {
                 format!("expected a table, got {}", other.type_str()),
             )),
         }
+    }
+
+    /// The reader of the table of `effect` under `[effects]` (§7), if present.
+    fn effect(&mut self, effect: Effect) -> Result<Option<Reader<'a>>, ModelError> {
+        let prefix = format!("{}{}.", self.prefix, effect.name());
+        Ok(self.table(effect.name())?.map(|t| Reader::new(prefix, t)))
     }
 
     /// Error on the first key that was not read.
