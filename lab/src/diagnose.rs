@@ -1694,11 +1694,11 @@ pub fn report_text(rep: &Report, source: &str) -> String {
         let _ = writeln!(s, "        fitted: {}", effect_params(&st.model, st.effect));
     }
     if rep.steps.is_empty() {
-        let _ = writeln!(s, "no effect is missing: no candidate lowers the held-out rms by {:.0} % with a better BIC", 100.0 * ACCEPT_GAIN);
+        let _ = writeln!(s, "no effect is missing: no candidate lowers the held-out rms by {:.0} % above the floor with a better BIC", 100.0 * ACCEPT_GAIN);
     } else {
         let _ = writeln!(
             s,
-            "done: no further candidate lowers the held-out rms by {:.0} %; gap {} N -> {} N ({}); the remaining rms {} N is {:.0} % noise and resolution",
+            "done: no further candidate lowers the held-out rms by {:.0} % above the floor; gap {} N -> {} N ({}); the remaining rms {} N is {:.0} % noise and resolution",
             100.0 * ACCEPT_GAIN,
             short(rep.rms_before, 4),
             short(rep.rms_after, 4),
