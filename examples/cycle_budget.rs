@@ -8,10 +8,16 @@
 //! oscillation of ±0.4·z_max) and half in gross sliding (a 5 mm/s stroke).
 //!
 //! Each row is one *pass* (a function that calls its wrapper over the
-//! row's inputs). After the counted passes, `stack_pass` runs every pass
-//! again with the free stack painted and prints `stack <row> <bytes>`: the
-//! deepest the wrapper and everything it called reached below the stack
-//! pointer of the call (the instruction count stops at `stack_pass`).
+//! row's inputs). The passes run in groups, one per shape exponent δ of
+//! [`DELTAS`]: every pass with the Fig. 5 model (δ = 1), then the passes
+//! whose cost depends on δ ([`DELTA_PASSES`]) with the same parameters at
+//! δ = 0.7, 1.3 and 2, on the same trajectory. A group starts with a call
+//! of its marker (`profile_delta_0_7` for δ = 0.7): the profile attributes
+//! every call that follows to that δ. After the counted passes,
+//! `stack_pass` runs every group's passes again with the free stack painted
+//! and prints `stack <row> <δ> <bytes>`: the deepest the wrapper and
+//! everything it called reached below the stack pointer of the call (the
+//! instruction count stops at `stack_pass`).
 //!
 //! On hardware the example also times one update with the DWT cycle counter
 //! (`breakaway::cycles`); under QEMU that counter reads 0 and the example
@@ -196,8 +202,12 @@ fn bench_new_model_fixed(model: &mut Model<Q16>, params: Params) -> bool {
     model.set_params(params).is_ok()
 }
 
-/// What the passes share: the models and predictors of both number types.
-struct Bench {
+/// Samples of the update trajectory.
+const SAMPLES: usize = 2 * HALF as usize;
+
+/// What the passes of one δ share: the models and predictors of both
+/// number types.
+struct Bench<'a> {
     model: Model,
     predictor: BreakAwayPredictor<f32>,
     fixed: Model<Q16>,
@@ -205,9 +215,39 @@ struct Bench {
     scale: CountScale,
     /// Model velocity units per count per sample.
     per_count: Q16,
-    /// The update trajectory [counts], computed once (its `sinf` is not
-    /// part of any row).
-    counts: [i32; 2 * HALF as usize],
+    /// The update trajectory [counts], computed once for every δ (its
+    /// `sinf` is not part of any row).
+    counts: &'a [i32; SAMPLES],
+}
+
+/// The Fig. 5 parameters with the shape exponent `delta`, as models and
+/// predictors of both number types.
+fn bench(delta: f32, counts: &[i32; SAMPLES]) -> Bench<'_> {
+    let p = Params {
+        delta,
+        ..common::FIG5
+    };
+    let mut fixed = Model::<Q16>::UNIT_COULOMB;
+    let (Ok(model), Ok(())) = (Model::<f32>::new(p), fixed.set_params(p)) else {
+        common::exit_failure("invalid parameters");
+    };
+    let (Ok(predictor), Ok(fixed_predictor), Some(scale), Some(per_count)) = (
+        BreakAwayPredictor::new(&model, 0.95),
+        BreakAwayPredictor::new(&fixed, 0.95),
+        fixed.position_scale::<i32>(COUNT),
+        fixed.velocity(COUNT / DT),
+    ) else {
+        common::exit_failure("invalid set-up");
+    };
+    Bench {
+        model,
+        predictor,
+        fixed,
+        fixed_predictor,
+        scale,
+        per_count,
+        counts,
+    }
 }
 
 /// The stack pointer in the caller's frame: the wrappers are called at it.
@@ -338,7 +378,8 @@ fn pass_new_model_fixed(b: &Bench) -> (usize, f32) {
     )
 }
 
-/// Every row's pass, by the name `cargo xtask profile` reports.
+/// Every row's pass, by the name `cargo xtask profile` reports: the group
+/// of the Fig. 5 model (δ = 1).
 const PASSES: [(&str, Pass); 9] = [
     ("update_f32", pass_update_f32),
     ("stribeck_f32", pass_stribeck_f32),
@@ -350,6 +391,61 @@ const PASSES: [(&str, Pass); 9] = [
     ("new_model_f32", pass_new_model_f32),
     ("new_model_fixed", pass_new_model_fixed),
 ];
+
+/// The passes whose cost depends on δ: the group of every other δ.
+const DELTA_PASSES: [(&str, Pass); 3] = [
+    ("update_f32", pass_update_f32),
+    ("naive_libm_update", pass_naive_libm_update),
+    ("update_fixed", pass_update_fixed),
+];
+
+// The markers of the δ groups. `cargo xtask profile` reads δ from the name
+// of the function entered (`profile_delta_1_3`: δ = 1.3) and attributes the
+// calls that follow to it. Each returns its δ through `black_box`, so that
+// the call is kept and no two markers have the same body (identical
+// functions could be folded into one symbol).
+
+#[no_mangle]
+#[inline(never)]
+fn profile_delta_1() -> f32 {
+    black_box(1.0)
+}
+
+#[no_mangle]
+#[inline(never)]
+fn profile_delta_0_7() -> f32 {
+    black_box(0.7)
+}
+
+#[no_mangle]
+#[inline(never)]
+fn profile_delta_1_3() -> f32 {
+    black_box(1.3)
+}
+
+#[no_mangle]
+#[inline(never)]
+fn profile_delta_2() -> f32 {
+    black_box(2.0)
+}
+
+/// The δ groups in the order they run, by marker: the Fig. 5 model's δ = 1
+/// (every pass) first, then [`DELTA_PASSES`] at δ = 0.7, 1.3 and 2.
+const DELTAS: [fn() -> f32; 4] = [
+    profile_delta_1,
+    profile_delta_0_7,
+    profile_delta_1_3,
+    profile_delta_2,
+];
+
+/// The passes of the δ group `group` (an index into [`DELTAS`]).
+fn passes(group: usize) -> &'static [(&'static str, Pass)] {
+    if group == 0 {
+        &PASSES
+    } else {
+        &DELTA_PASSES
+    }
+}
 
 /// Stack painting: the free RAM between the end of the static data and the
 /// painter's own frame is filled with a pattern; after a pass, the lowest
@@ -404,55 +500,53 @@ mod stack {
     }
 }
 
-/// Every pass again with the stack painted (not counted by the profile).
+/// Every group's passes again with the stack painted (not counted by the
+/// profile).
 #[no_mangle]
 #[inline(never)]
-fn stack_pass(bench: &Bench) {
-    for (name, pass) in PASSES {
-        stack::paint();
-        let (sp, _) = pass(bench);
-        match stack::used_below(sp) {
-            Some(bytes) => hprintln!("stack {} {}", name, bytes),
-            // Not a number: the profile fails, naming the row.
-            None => hprintln!("stack {} beyond-the-painted-span", name),
+fn stack_pass(benches: &[Bench; DELTAS.len()]) {
+    for (group, bench) in benches.iter().enumerate() {
+        let delta = bench.model.params().delta;
+        for &(name, pass) in passes(group) {
+            stack::paint();
+            let (sp, _) = pass(bench);
+            match stack::used_below(sp) {
+                Some(bytes) => hprintln!("stack {} {} {}", name, delta, bytes),
+                // Not a number: the profile fails, naming the row.
+                None => hprintln!("stack {} {} beyond-the-painted-span", name, delta),
+            }
         }
     }
 }
 
 #[entry]
 fn main() -> ! {
-    let p = common::FIG5;
-    let mut fixed = Model::<Q16>::UNIT_COULOMB;
-    let (Ok(model), Ok(())) = (Model::<f32>::new(p), fixed.set_params(p)) else {
-        common::exit_failure("invalid parameters");
-    };
-    let (Ok(predictor), Ok(fixed_predictor), Some(scale), Some(per_count)) = (
-        BreakAwayPredictor::new(&model, 0.95),
-        BreakAwayPredictor::new(&fixed, 0.95),
-        fixed.position_scale::<i32>(COUNT),
-        fixed.velocity(COUNT / DT),
-    ) else {
-        common::exit_failure("invalid set-up");
-    };
-    let bench = Bench {
-        model,
-        predictor,
-        fixed,
-        fixed_predictor,
-        scale,
-        per_count,
-        counts: core::array::from_fn(|n| trajectory(n as i32)),
-    };
-    let mut sums = [0.0f32; PASSES.len()];
-    for (sum, (_, pass)) in sums.iter_mut().zip(PASSES) {
-        *sum = black_box(pass(&bench).1);
-    }
-    // The anchor and the library agree (same model, same samples).
-    hprintln!("anchor mismatch sum {}", sums[0] - sums[4]);
-    stack_pass(&bench);
+    // The trajectory's `sinf` runs before the first marker.
+    let counts: [i32; SAMPLES] = core::array::from_fn(|n| trajectory(n as i32));
+    let benches: [Bench; DELTAS.len()] = core::array::from_fn(|group| {
+        // The marker first: the profile attributes what follows to its δ.
+        let bench = bench(DELTAS[group](), &counts);
+        let (mut library, mut anchor) = (0.0, 0.0);
+        for &(name, pass) in passes(group) {
+            let sum = black_box(pass(&bench).1);
+            match name {
+                "update_f32" => library = sum,
+                "naive_libm_update" => anchor = sum,
+                _ => {}
+            }
+        }
+        // The anchor and the library agree (same model, same samples).
+        hprintln!(
+            "anchor mismatch sum at delta {}: {}",
+            bench.model.params().delta,
+            library - anchor
+        );
+        bench
+    });
+    stack_pass(&benches);
     let mut axis =
         Presliding::<i64>::new(0, COUNT).unwrap_or_else(|_| common::exit_failure("invalid scale"));
-    dwt_note(&mut axis, &bench.model);
+    dwt_note(&mut axis, &benches[0].model);
     hprintln!("done");
     common::exit_success()
 }

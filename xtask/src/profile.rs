@@ -11,6 +11,23 @@
 //! call. Everything executed in between (callees such as `libm` included)
 //! counts, the call and the return instructions too.
 //!
+//! The example runs its passes in groups, one per shape exponent δ: every
+//! row with the Fig. 5 model (δ = 1), then the rows whose cost depends on δ
+//! ([`DELTA_ROWS`]) at each δ of [`EXTRA_DELTAS`], on the same trajectory. A
+//! group starts with a call of its marker, `profile_delta_<δ>` with `_` for
+//! the decimal point; a call is attributed to the δ of the last marker
+//! entered before it. Each row reports its δ: the δ of the model it uses
+//! (1 for the rows that do not depend on δ).
+//!
+//! The example runs twice per target. A plain run (no log, well under a
+//! second) gives what it prints: the stack depths of its stack pass. The
+//! traced run writes one log line per executed instruction, which is what
+//! the profile's time goes into (QEMU writes each line with its own system
+//! call); the log is read while QEMU writes it, and QEMU is stopped as soon
+//! as the trace reaches `stack_pass`, so the stack pass and what follows it
+//! are never logged. The log's name carries the process id: profiles may
+//! run side by side.
+//!
 //! Estimated cycles apply per-instruction timings to the executed stream:
 //! for the Cortex-M4 and Cortex-M3, the instruction timing tables of the
 //! ARM Cortex-M4 Technical Reference Manual (ARM DDI 0439B, Table 3-1
@@ -25,9 +42,10 @@
 
 use std::collections::HashMap;
 use std::fs::File;
-use std::io::{BufRead, BufReader};
-use std::process::Command;
-use std::time::Duration;
+use std::io::{BufRead, BufReader, Read};
+use std::path::Path;
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
 
 use crate::qemu::{self, Target};
 
@@ -44,8 +62,44 @@ const ROWS: [(&str, &str); 9] = [
     ("bench_new_model_fixed", "new_model_fixed"),
 ];
 
+/// The rows measured at every δ (names of [`ROWS`]).
+const DELTA_ROWS: [&str; 3] = ["update_f32", "naive_libm_update", "update_fixed"];
+
+/// The shape exponents of the groups after the first (δ = 1): each runs
+/// [`DELTA_ROWS`].
+const EXTRA_DELTAS: [f64; 3] = [0.7, 1.3, 2.0];
+
+/// The δ of the first group, every row's.
+const BASE_DELTA: f64 = 1.0;
+
+/// The prefix of the δ markers: `profile_delta_1_3` marks δ = 1.3.
+const DELTA_MARKER: &str = "profile_delta_";
+
 /// Where the counted part of the trace ends: the harness's stack pass.
 const END_SYMBOL: &str = "stack_pass";
+
+/// δ from a marker's symbol (`profile_delta_0_7` → 0.7).
+fn marker_delta(symbol: &str) -> Option<f64> {
+    symbol
+        .strip_prefix(DELTA_MARKER)?
+        .replace('_', ".")
+        .parse()
+        .ok()
+}
+
+/// Every (row, δ) the profile reports, in the order it reports them: the
+/// rows of [`ROWS`] at δ = 1 (today's rows, first, so that the first row of
+/// a name is still its δ = 1 row), then each of [`DELTA_ROWS`] at every δ
+/// of [`EXTRA_DELTAS`].
+fn expected_rows() -> Vec<(usize, f64)> {
+    let mut rows: Vec<(usize, f64)> = (0..ROWS.len()).map(|i| (i, BASE_DELTA)).collect();
+    for name in DELTA_ROWS {
+        if let Some(i) = ROWS.iter().position(|(_, n)| *n == name) {
+            rows.extend(EXTRA_DELTAS.iter().map(|&delta| (i, delta)));
+        }
+    }
+    rows
+}
 
 /// Options of `cargo xtask profile`.
 #[derive(Clone, Debug)]
@@ -111,6 +165,8 @@ impl Options {
 pub struct Row {
     pub target: &'static str,
     pub name: &'static str,
+    /// The shape exponent δ of the model the row uses.
+    pub delta: f64,
     pub calls: usize,
     /// Mean instructions per call.
     pub instructions: f64,
@@ -134,6 +190,7 @@ pub fn run(options: &Options) -> Result<(), String> {
                 serde_json::json!({
                     "target": r.target,
                     "name": r.name,
+                    "delta": r.delta,
                     "instructions": r.instructions,
                     "max_instructions": r.max_instructions,
                     "est_cycles": r.est_cycles,
@@ -201,9 +258,10 @@ fn print_table(rows: &[Row], options: &Options) {
         period
     );
     println!(
-        "{:<22} {:<20} {:>7} {:>10} {:>9} {:>11} {:>8} {:>7}",
+        "{:<22} {:<20} {:>4} {:>7} {:>10} {:>9} {:>11} {:>8} {:>7}",
         "target",
         "function",
+        "δ",
         "calls",
         "instr/call",
         "max instr",
@@ -213,9 +271,10 @@ fn print_table(rows: &[Row], options: &Options) {
     );
     for r in rows {
         println!(
-            "{:<22} {:<20} {:>7} {:>10.1} {:>9} {:>11.1} {:>7.2}% {:>7}",
+            "{:<22} {:<20} {:>4} {:>7} {:>10.1} {:>9} {:>11.1} {:>7.2}% {:>7}",
             r.target,
             r.name,
+            r.delta,
             r.calls,
             r.instructions,
             r.max_instructions,
@@ -247,19 +306,34 @@ fn singlestep_args() -> Vec<&'static str> {
     }
 }
 
-/// Profiles `cycle_budget` on one target.
+/// Profiles `cycle_budget` on one target: a plain run for the figures the
+/// example prints (the stack depths), then a traced run for the instruction
+/// counts, read while QEMU writes it and stopped where the counted part ends
+/// (the stack pass and what follows it are never logged in full).
 pub fn measure(target: Target) -> Result<Vec<Row>, String> {
     let elf = qemu::build("cycle_budget", target)?;
-    let log = std::env::temp_dir().join(format!("breakaway-profile-{}.log", target.triple));
-    let log_arg = log.to_string_lossy().into_owned();
-    let mut args = singlestep_args();
-    args.extend(["-d", "in_asm,exec,nochain", "-D", &log_arg]);
     eprintln!(
         "xtask: profiling cycle_budget on {} ({})",
         target.core, target.machine
     );
-    let output = qemu::execute(&elf, target, &args, Duration::from_secs(900))?;
-    let rows = parse_trace(&log, target);
+    // Deterministic: tracing changes no guest state, so the plain run
+    // prints what the traced run would.
+    let output = qemu::execute(&elf, target, &[], Duration::from_secs(120))?;
+    // One log per process: profiles may run side by side.
+    let log = std::env::temp_dir().join(format!(
+        "breakaway-profile-{}-{}.log",
+        target.triple,
+        std::process::id()
+    ));
+    let _ = std::fs::remove_file(&log);
+    let log_arg = log.to_string_lossy().into_owned();
+    let mut args = singlestep_args();
+    args.extend(["-d", "in_asm,exec,nochain", "-D", &log_arg]);
+    let mut child = qemu::spawn(&elf, target, &args, Stdio::null())?;
+    let rows = follow_trace(&log, &mut child, target, Duration::from_secs(900));
+    // Done with QEMU (running or not): it would go on logging the stack pass.
+    let _ = child.kill();
+    let _ = child.wait();
     let _ = std::fs::remove_file(&log);
     let mut rows = rows?;
     for row in &mut rows {
@@ -267,17 +341,90 @@ pub fn measure(target: Target) -> Result<Vec<Row>, String> {
             .lines()
             .filter_map(|line| line.strip_prefix("stack "))
             .find_map(|rest| {
-                let (name, bytes) = rest.split_once(' ')?;
-                (name == row.name).then(|| bytes.trim().parse().ok())?
+                let mut fields = rest.split_whitespace();
+                let (name, delta) = (fields.next()?, fields.next()?.parse::<f64>().ok()?);
+                (name == row.name && delta == row.delta).then(|| fields.next()?.parse().ok())?
             })
             .ok_or_else(|| {
                 format!(
-                    "profile: no stack figure for {} on {}",
-                    row.name, target.triple
+                    "profile: no stack figure for {} at δ = {} on {}",
+                    row.name, row.delta, target.triple
                 )
             })?;
     }
     Ok(rows)
+}
+
+/// Reads QEMU's log at `path` as `child` writes it, up to [`END_SYMBOL`],
+/// and returns the rows. An error if QEMU stops before the log reaches it or
+/// the run takes longer than `limit`.
+fn follow_trace(
+    path: &Path,
+    child: &mut Child,
+    target: Target,
+    limit: Duration,
+) -> Result<Vec<Row>, String> {
+    let start = Instant::now();
+    let pause = Duration::from_millis(2);
+    let timeout = || {
+        format!(
+            "profile: the traced run on {} did not reach {END_SYMBOL} within {} s",
+            target.machine,
+            limit.as_secs()
+        )
+    };
+    let stopped = |child: &mut Child, status: std::process::ExitStatus| {
+        let mut stderr = String::new();
+        if let Some(mut e) = child.stderr.take() {
+            let _ = e.read_to_string(&mut stderr);
+        }
+        format!(
+            "profile: QEMU on {} stopped ({status}) before the trace reached {END_SYMBOL}: {}",
+            target.machine,
+            stderr.lines().next().unwrap_or("")
+        )
+    };
+    // QEMU creates the log when it starts.
+    let file = loop {
+        if let Ok(file) = File::open(path) {
+            break file;
+        }
+        if let Some(status) = child.try_wait().map_err(|e| e.to_string())? {
+            return Err(stopped(child, status));
+        }
+        if start.elapsed() > limit {
+            return Err(timeout());
+        }
+        std::thread::sleep(pause);
+    };
+    let mut reader = BufReader::with_capacity(1 << 20, file);
+    let mut trace = Trace::new(target);
+    let mut line = String::new();
+    // Once QEMU has exited, what remains in the log is read to its end.
+    let mut exited = None;
+    loop {
+        let n = reader
+            .read_line(&mut line)
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+        if line.ends_with('\n') {
+            if trace.feed(&line)? {
+                return trace.rows();
+            }
+            line.clear();
+        } else if n == 0 {
+            // The end of what QEMU has written so far.
+            if let Some(status) = exited {
+                return Err(stopped(child, status));
+            }
+            exited = child.try_wait().map_err(|e| e.to_string())?;
+            if exited.is_none() {
+                if start.elapsed() > limit {
+                    return Err(timeout());
+                }
+                std::thread::sleep(pause);
+            }
+        }
+    }
 }
 
 /// One decoded instruction.
@@ -290,7 +437,10 @@ struct Insn {
 
 /// A call being counted.
 struct Open {
+    /// Index into [`ROWS`].
     row: usize,
+    /// δ of the group the call belongs to.
+    delta: f64,
     return_pc: u32,
     instructions: u64,
     cycles: u64,
@@ -301,84 +451,148 @@ struct Tally {
     calls: Vec<(u64, u64)>,
 }
 
-fn parse_trace(path: &std::path::Path, target: Target) -> Result<Vec<Row>, String> {
-    let file = File::open(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let mut insns: HashMap<u32, Insn> = HashMap::new();
-    let mut tallies = vec![Tally::default(); ROWS.len()];
-    let mut open: Option<Open> = None;
-    // The previous executed instruction: pc, and its symbol.
-    let mut prev: Option<(u32, String)> = None;
-    let m0 = target.triple.starts_with("thumbv6m");
-    for line in BufReader::new(file).lines() {
-        let line = line.map_err(|e| e.to_string())?;
-        if let Some((pc, insn)) = parse_in_asm(&line) {
-            insns.insert(pc, insn);
-            continue;
+/// The state of the trace parser, fed one log line at a time.
+struct Trace {
+    target: Target,
+    m0: bool,
+    /// Every instruction translated so far, by address, with its estimated
+    /// cycles when it falls through and when it branches.
+    insns: HashMap<u32, (Insn, [u32; 2])>,
+    /// The (row, δ) pairs reported, and their calls.
+    expected: Vec<(usize, f64)>,
+    tallies: Vec<Tally>,
+    open: Option<Open>,
+    /// δ of the last marker entered.
+    delta: Option<f64>,
+    /// The previous executed instruction's address.
+    prev_pc: Option<u32>,
+    /// The previous executed instruction's symbol.
+    prev_symbol: String,
+}
+
+impl Trace {
+    fn new(target: Target) -> Self {
+        let expected = expected_rows();
+        Self {
+            target,
+            m0: target.triple.starts_with("thumbv6m"),
+            insns: HashMap::new(),
+            tallies: vec![Tally::default(); expected.len()],
+            expected,
+            open: None,
+            delta: None,
+            prev_pc: None,
+            prev_symbol: String::new(),
         }
-        let Some((pc, symbol)) = parse_exec(&line) else {
-            continue;
+    }
+
+    /// Takes one line of the log; `true` once the counted part has ended
+    /// (the first instruction of [`END_SYMBOL`]).
+    fn feed(&mut self, line: &str) -> Result<bool, String> {
+        let line = line.trim_end();
+        if let Some((pc, insn)) = parse_in_asm(line) {
+            let cost = [cycles(&insn, false, self.m0), cycles(&insn, true, self.m0)];
+            self.insns.insert(pc, (insn, cost));
+            return Ok(false);
+        }
+        let Some((pc, symbol)) = parse_exec(line) else {
+            return Ok(false);
         };
-        if symbol == END_SYMBOL {
-            break;
+        // In another function than the previous instruction.
+        let entered = symbol != self.prev_symbol;
+        if entered && symbol == END_SYMBOL {
+            return Ok(true);
         }
         // Charge the previous instruction now that we know where it went.
-        if let (Some(call), Some((prev_pc, _))) = (open.as_mut(), prev.as_ref()) {
-            if let Some(insn) = insns.get(prev_pc) {
+        if let (Some(call), Some(prev_pc)) = (self.open.as_mut(), self.prev_pc) {
+            if let Some((insn, cost)) = self.insns.get(&prev_pc) {
                 let taken = pc != prev_pc.wrapping_add(insn.size);
-                call.cycles += u64::from(cycles(insn, taken, m0));
+                call.cycles += u64::from(cost[usize::from(taken)]);
             }
         }
-        if let Some(call) = open.as_ref() {
+        if let Some(call) = self.open.as_ref() {
             if pc == call.return_pc {
-                if let Some(call) = open.take() {
-                    tallies[call.row]
+                if let Some(call) = self.open.take() {
+                    let slot = self
+                        .expected
+                        .iter()
+                        .position(|&(row, delta)| row == call.row && delta == call.delta)
+                        .ok_or_else(|| {
+                            format!(
+                                "profile: a call of {} at δ = {}, a row the profile does not report",
+                                ROWS[call.row].0, call.delta
+                            )
+                        })?;
+                    self.tallies[slot]
                         .calls
                         .push((call.instructions, call.cycles));
                 }
             }
         }
-        if open.is_none() {
-            if let Some(row) = ROWS.iter().position(|(sym, _)| *sym == symbol) {
-                // Entered by a call from another function?
-                if let Some((prev_pc, prev_symbol)) = prev.as_ref() {
-                    let call = insns.get(prev_pc).filter(|i| i.mnemonic.starts_with("bl"));
-                    if let (Some(call), true) = (call, prev_symbol != &symbol) {
-                        open = Some(Open {
-                            row,
-                            return_pc: prev_pc.wrapping_add(call.size),
-                            // The call instruction itself.
-                            instructions: 1,
-                            cycles: u64::from(cycles(call, true, m0)),
-                        });
-                    }
-                }
+        if self.open.is_none() && entered {
+            if let Some(d) = marker_delta(symbol) {
+                self.delta = Some(d);
+            }
+            // Entered by a call?
+            let row = ROWS.iter().position(|(sym, _)| *sym == symbol);
+            let call = self
+                .prev_pc
+                .and_then(|prev_pc| Some((prev_pc, self.insns.get(&prev_pc)?)))
+                .filter(|(_, (insn, _))| insn.mnemonic.starts_with("bl"));
+            if let (Some(row), Some((prev_pc, (call, cost)))) = (row, call) {
+                let delta = self
+                    .delta
+                    .ok_or_else(|| format!("profile: a call of {symbol} before any δ marker"))?;
+                self.open = Some(Open {
+                    row,
+                    delta,
+                    return_pc: prev_pc.wrapping_add(call.size),
+                    // The call instruction itself.
+                    instructions: 1,
+                    cycles: u64::from(cost[1]),
+                });
             }
         }
-        if let Some(call) = open.as_mut() {
+        if let Some(call) = self.open.as_mut() {
             call.instructions += 1;
         }
-        prev = Some((pc, symbol));
+        self.prev_pc = Some(pc);
+        if entered {
+            self.prev_symbol.clear();
+            self.prev_symbol.push_str(symbol);
+        }
+        Ok(false)
     }
-    ROWS.iter()
-        .zip(tallies)
-        .map(|(&(symbol, name), tally)| {
-            let n = tally.calls.len();
-            if n == 0 {
-                return Err(format!("profile: no call of {symbol} found in the trace"));
-            }
-            let total: u64 = tally.calls.iter().map(|c| c.0).sum();
-            let cycles: u64 = tally.calls.iter().map(|c| c.1).sum();
-            Ok(Row {
-                target: target.triple,
-                name,
-                calls: n,
-                instructions: total as f64 / n as f64,
-                max_instructions: tally.calls.iter().map(|c| c.0).max().unwrap_or(0),
-                est_cycles: cycles as f64 / n as f64,
-                max_stack_bytes: 0,
+
+    /// The rows, in the order of [`expected_rows`].
+    fn rows(self) -> Result<Vec<Row>, String> {
+        let target = self.target;
+        self.expected
+            .iter()
+            .zip(self.tallies)
+            .map(|(&(row, delta), tally)| {
+                let (symbol, name) = ROWS[row];
+                let n = tally.calls.len();
+                if n == 0 {
+                    return Err(format!(
+                        "profile: no call of {symbol} at δ = {delta} found in the trace"
+                    ));
+                }
+                let total: u64 = tally.calls.iter().map(|c| c.0).sum();
+                let cycles: u64 = tally.calls.iter().map(|c| c.1).sum();
+                Ok(Row {
+                    target: target.triple,
+                    name,
+                    delta,
+                    calls: n,
+                    instructions: total as f64 / n as f64,
+                    max_instructions: tally.calls.iter().map(|c| c.0).max().unwrap_or(0),
+                    est_cycles: cycles as f64 / n as f64,
+                    max_stack_bytes: 0,
+                })
             })
-        })
-        .collect()
+            .collect()
+    }
 }
 
 /// `0x000004c0:  f005 ffab  bl       #0x635a` → (pc, insn).
@@ -410,12 +624,12 @@ fn parse_in_asm(line: &str) -> Option<(u32, Insn)> {
 
 /// `Trace 0: 0x7fa2b4000100 [00800408/00000400/00000110/ff000201] Reset`
 /// → (pc, symbol).
-fn parse_exec(line: &str) -> Option<(u32, String)> {
+fn parse_exec(line: &str) -> Option<(u32, &str)> {
     let rest = line.strip_prefix("Trace ")?;
     let (_, rest) = rest.split_once('[')?;
     let (fields, symbol) = rest.split_once(']')?;
     let pc = u32::from_str_radix(fields.split('/').nth(1)?, 16).ok()?;
-    Some((pc, symbol.trim().to_string()))
+    Some((pc, symbol.trim()))
 }
 
 /// Registers in a list such as `{r4, r5, r7, lr}` or `{d8-d11}`.

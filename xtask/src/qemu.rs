@@ -2,7 +2,7 @@
 
 use std::io::Read;
 use std::path::PathBuf;
-use std::process::{Command, Stdio};
+use std::process::{Child, Command, Stdio};
 use std::thread;
 use std::time::{Duration, Instant};
 
@@ -96,20 +96,7 @@ pub fn execute(
     extra: &[&str],
     limit: Duration,
 ) -> Result<String, String> {
-    let mut child = Command::new("qemu-system-arm")
-        .args(["-cpu", target.cpu, "-machine", target.machine])
-        .args(["-nographic", "-monitor", "none"])
-        .args(["-semihosting-config", "enable=on,target=native"])
-        .args(extra)
-        .arg("-kernel")
-        .arg(elf)
-        .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .map_err(|e| {
-            format!("could not start qemu-system-arm ({e}); install it: apt-get install qemu-system-arm")
-        })?;
+    let mut child = spawn(elf, target, extra, Stdio::piped())?;
     let mut stdout = child.stdout.take().ok_or("no stdout pipe")?;
     let reader = thread::spawn(move || {
         let mut text = String::new();
@@ -150,6 +137,30 @@ pub fn execute(
             stderr.lines().next().unwrap_or("")
         ))
     }
+}
+
+/// Starts an ELF under QEMU with semihosting and extra QEMU arguments, its
+/// standard output to `stdout`, its standard error piped.
+pub fn spawn(
+    elf: &PathBuf,
+    target: Target,
+    extra: &[&str],
+    stdout: Stdio,
+) -> Result<Child, String> {
+    Command::new("qemu-system-arm")
+        .args(["-cpu", target.cpu, "-machine", target.machine])
+        .args(["-nographic", "-monitor", "none"])
+        .args(["-semihosting-config", "enable=on,target=native"])
+        .args(extra)
+        .arg("-kernel")
+        .arg(elf)
+        .stdin(Stdio::null())
+        .stdout(stdout)
+        .stderr(Stdio::piped())
+        .spawn()
+        .map_err(|e| {
+            format!("could not start qemu-system-arm ({e}); install it: apt-get install qemu-system-arm")
+        })
 }
 
 /// Builds and runs an example; returns its standard output.
