@@ -69,10 +69,12 @@ pub struct CurvesF32 {
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 struct StribeckTable {
-    /// k: the mantissa bits of u that pick the segment in its octave.
-    split: u32,
-    /// 23 − k.
+    /// 23 − k, for k mantissa bits of u that pick the segment in its
+    /// octave.
     shift: u32,
+    /// k + 9: shifts the mantissa bits below the split to the top of a
+    /// word.
+    fraction_shift: u32,
     /// (bits of u) >> shift of the first segment.
     base: u32,
     /// Below the first segment S is Fs to within 2.4e-7·(Fs − Fc); when
@@ -112,8 +114,8 @@ impl StribeckTable {
         let (split, base, steady_below) = Self::window(delta);
         let shift = 23u32.wrapping_sub(split);
         let mut table = Self {
-            split,
             shift,
+            fraction_shift: split.wrapping_add(9),
             base,
             steady_below,
             coefficients: [[0.0; STRIBECK_COEFFICIENTS]; STRIBECK_SEGMENTS],
@@ -178,7 +180,7 @@ impl Curves<f32> for CurvesF32 {
         if let Some(c) = table.coefficients.get(index as usize) {
             // The mantissa bits below the split, as x in [−1, 1): 2 + 2x is
             // the float with them on top of its mantissa and exponent 1.
-            let x = f32::from_bits(((bits << table.split) & 0x007f_ffff) | 0x4000_0000) - 3.0;
+            let x = f32::from_bits(((bits << table.fraction_shift) >> 9) | 0x4000_0000) - 3.0;
             return c[0]
                 + x * (c[1] + x * (c[2] + x * (c[3] + x * (c[4] + x * (c[5] + x * c[6])))));
         }
@@ -225,10 +227,23 @@ fn power(u: f32, delta: f32) -> f32 {
 /// between its two ends. Absolute error 1.3e-7 (measured against `f64`).
 #[inline]
 pub fn shape_f32(w: f32) -> f32 {
-    if w < 1e-30 {
-        // g(1e-30) = 7e-29: zero to f32 precision (also for w ≤ 0).
-        0.0
-    } else if w >= 1.0 {
+    /// The bits of 0.9.
+    const NEAR_ONE: u32 = 0x3f66_6666;
+    let bits = w.to_bits();
+    // 0 < w ≤ 0.9 in one unsigned comparison of the bits (w ≤ 0, w > 0.9
+    // and NaN fall outside). Below the smallest normal float the exponent
+    // is taken as −127: g is then off by less than 2e-37.
+    if bits.wrapping_sub(1) < NEAR_ONE {
+        w * (1.0 - ln_below_one(bits))
+    } else {
+        shape_outside(w)
+    }
+}
+
+/// g(w) for w ≤ 0, w > 0.9 and NaN.
+#[inline]
+fn shape_outside(w: f32) -> f32 {
+    if w >= 1.0 {
         1.0
     } else if w > 0.9 {
         // Near w = 1, g is flat (g′ = −ln w → 0) and w·(1 − ln w) would
@@ -240,22 +255,23 @@ pub fn shape_f32(w: f32) -> f32 {
         let tail = 1.0 / 20.0 + u * (1.0 / 30.0 + u * (1.0 / 42.0));
         1.0 - u * u * (0.5 + u * (1.0 / 6.0 + u * (1.0 / 12.0 + u * tail)))
     } else {
-        w * (1.0 - ln_normal_below_one(w))
+        // w ≤ 0 or NaN.
+        0.0
     }
 }
 
-/// ln w for a normal `w` in (0, 1) (no check): e·ln 2 + ln m with m in
-/// [1, 2) from the bits, ln m by the segment polynomials of `LN_MANTISSA`.
+/// ln w for the `bits` of a positive `w` below 1 (no check): e·ln 2 + ln m
+/// with m in [1, 2) from the bits, ln m by the segment polynomials of
+/// `LN_MANTISSA`.
 #[inline(always)]
-fn ln_normal_below_one(w: f32) -> f32 {
+fn ln_below_one(bits: u32) -> f32 {
     const LN_2: f32 = core::f32::consts::LN_2;
-    let bits = w.to_bits();
-    // w < 1: the exponent field is below 127, e = field − 127 in [−126, −1].
+    // w < 1: the exponent field is below 127, e = field − 127 in [−127, −1].
     let e = ((bits >> 23) as i32).wrapping_sub(127);
     // The top four mantissa bits pick the segment (the index is < 16).
     let segment = ((bits >> 19) & 0xf) as usize;
     // The other 19 as x in [−1, 1), as in `stribeck`.
-    let x = f32::from_bits(((bits << 4) & 0x007f_ffff) | 0x4000_0000) - 3.0;
+    let x = f32::from_bits(((bits << 13) >> 9) | 0x4000_0000) - 3.0;
     let ln_m = match LN_MANTISSA.get(segment) {
         Some(c) => c[0] + x * (c[1] + x * (c[2] + x * c[3])),
         None => 0.0,
@@ -327,7 +343,7 @@ mod tests {
     #[test]
     fn shape_against_f64() {
         let mut worst = 0.0f64;
-        let mut bits = 1e-30f32.to_bits();
+        let mut bits = 1e-37f32.to_bits();
         while bits < 1.0f32.to_bits() {
             let w = f32::from_bits(bits);
             let want = f64::from(w) * (1.0 - f64::from(w).ln());
@@ -339,5 +355,9 @@ mod tests {
         assert_eq!(shape_f32(0.0), 0.0);
         assert_eq!(shape_f32(1.0), 1.0);
         assert!(shape_f32(0.9) <= 1.0);
+        assert_eq!(shape_f32(-0.5), 0.0);
+        assert_eq!(shape_f32(f32::NAN), 0.0);
+        assert_eq!(shape_f32(f32::INFINITY), 1.0);
+        assert!(shape_f32(1e-40) < 1e-37);
     }
 }
