@@ -5,8 +5,9 @@
 //!   depends on no parameter, into `OUT_DIR/shape_table.rs` (flash, not RAM;
 //!   see `src/fixed_point.rs`).
 //! - Generates the constants of the `f32` curves (`src/curves.rs`) into
-//!   `OUT_DIR/curve_tables.rs`: ln m of the mantissa by segment (degree-3
-//!   polynomials, flash) for the presliding shape, and the Chebyshev nodes
+//!   `OUT_DIR/curve_tables.rs`: the presliding shape g(w) by segment for
+//!   w from 2⁻²⁴ to 1 and ln m of the mantissa by segment below (flash),
+//!   and the Chebyshev nodes
 //!   and fit matrix from which each `f32` model builds its Stribeck table.
 //! - Firmware link set-up for the examples of the repository on the
 //!   Cortex-M (`thumb*`) targets: they link with cortex-m-rt's `link.x`,
@@ -69,6 +70,11 @@ fn shape_table() -> String {
 const LN_SEGMENTS: usize = 16;
 /// Degree of the polynomial of ln m on each segment.
 const LN_DEGREE: usize = 3;
+/// Octaves of w below 1 where the `f32` shape g(w) is tabulated directly
+/// (4 segments each).
+const SHAPE_F32_OCTAVES: usize = 24;
+/// Degree of the polynomial of g on each of those segments.
+const SHAPE_F32_DEGREE: usize = 4;
 /// Degree of the polynomial of S on each segment of the `f32` Stribeck
 /// table (`src/curves.rs`).
 const STRIBECK_DEGREE: usize = 6;
@@ -139,6 +145,41 @@ fn curve_tables() -> String {
         out.push_str("    [");
         for row in &a {
             let c: f64 = row.iter().zip(&values).map(|(a, y)| a * y).sum();
+            let _ = write!(out, "{:e}, ", c as f32);
+        }
+        out.push_str("],\n");
+    }
+    out.push_str("];\n");
+    let (nodes, a) = chebyshev_fit(SHAPE_F32_DEGREE);
+    let _ = writeln!(out, "const SHAPE_F32_OCTAVES: usize = {SHAPE_F32_OCTAVES};");
+    let _ = writeln!(
+        out,
+        "/// g(w) on segment j of octave e (row 4·(e + {SHAPE_F32_OCTAVES}) + j), w = 2ᵉ·(1 + (j + (x + 1)/2)/4):\n\
+         /// [scale, offset, c_0, …] with x = scale·w + offset in [−1, 1) and g = Σ_m c_m·xᵐ\n\
+         /// (Chebyshev interpolation, degree {SHAPE_F32_DEGREE})."
+    );
+    let _ = writeln!(
+        out,
+        "const SHAPE_F32: [[f32; {}]; 4 * SHAPE_F32_OCTAVES] = [",
+        SHAPE_F32_DEGREE + 3
+    );
+    for row in 0..4 * SHAPE_F32_OCTAVES {
+        let (e, j) = ((row / 4) as i32 - SHAPE_F32_OCTAVES as i32, row % 4);
+        let g = |x: f64| {
+            let w = 2f64.powi(e) * (1.0 + (j as f64 + (x + 1.0) / 2.0) / 4.0);
+            w * (1.0 - w.ln())
+        };
+        let values: Vec<f64> = nodes.iter().map(|&x| g(x)).collect();
+        out.push_str("    [");
+        // x = 2^(3−e)·w − (9 + 2j), exactly.
+        let _ = write!(
+            out,
+            "{:e}, {:e}, ",
+            2f32.powi(3 - e),
+            -(9.0 + 2.0 * j as f32)
+        );
+        for fit in &a {
+            let c: f64 = fit.iter().zip(&values).map(|(a, y)| a * y).sum();
             let _ = write!(out, "{:e}, ", c as f32);
         }
         out.push_str("],\n");

@@ -71,6 +71,16 @@ pub trait Scalar:
         }
     }
 
+    /// `self`·`sign` for `sign` = ±1: −`self` for a negative `sign`.
+    #[inline(always)]
+    fn signed(self, sign: Self) -> Self {
+        if sign < Self::ZERO {
+            -self
+        } else {
+            self
+        }
+    }
+
     /// The smaller of two numbers.
     #[inline(always)]
     fn min(self, other: Self) -> Self {
@@ -145,6 +155,11 @@ impl Scalar for f32 {
     #[inline(always)]
     fn is_finite(self) -> bool {
         f32::is_finite(self)
+    }
+    /// One multiply, exact for ±1.
+    #[inline(always)]
+    fn signed(self, sign: Self) -> Self {
+        self * sign
     }
     #[inline(always)]
     fn saturate(self) -> Self {
