@@ -77,7 +77,7 @@ const SHAPE_F32_OCTAVES: usize = 24;
 const SHAPE_F32_DEGREE: usize = 4;
 /// Degree of the polynomial of S on each segment of the `f32` Stribeck
 /// table (`src/curves.rs`).
-const STRIBECK_DEGREE: usize = 6;
+const STRIBECK_DEGREE: usize = 7;
 
 /// Monomial coefficients of the Chebyshev polynomials T_0 … T_n.
 fn chebyshev_monomials(n: usize) -> Vec<Vec<f64>> {

@@ -5,21 +5,22 @@
 //!
 //! **S(v)**: for a given model S is a fixed function of |v|, so each model
 //! tabulates it once, at construction, as [`STRIBECK_SEGMENTS`] polynomials
-//! of degree 6 over segments of u = |v|/V: the segment is read from the
-//! exponent bits and the top k mantissa bits of u (2ᵏ segments per octave),
-//! the polynomial's argument is x = a·u + b in [−1, 1) (exact: a is a power
-//! of two), with a and b stored with the segment. The cost is
-//! the same for every shape exponent δ. The segments cover
-//! (u^δ from 2⁻²² to 20: where S differs from Fs, and from Fc, by more than
-//! 2.4e-7·(Fs − Fc)); k is chosen per δ so that they fit: the segment width
-//! in δ·log₂u is then 0.41 to 0.82, over which the error is below
-//! 1e-6·(Fs − Fc) (9.5e-7 measured against `f64` for δ from 0.1 to 8, in
-//! the tests: `MAX_STRIBECK_ERROR`). Below the table S is Fs; above it, Fc. For δ below
-//! about 0.41 the table cannot reach down to u^δ = 2⁻²²; below it S is
-//! evaluated as e^(−e^(δ·ln u)) by the [`fastmath`] kernels. RAM: the
-//! table is [`STRIBECK_TABLE_BYTES`] per model; building it costs
-//! 7·[`STRIBECK_SEGMENTS`] evaluations of S by the [`fastmath`] kernels
-//! (`new_model_f32` in
+//! of degree 7 over segments of u = |v|/V (Chebyshev interpolation): the
+//! segment is read from the exponent bits and the top k mantissa bits of u
+//! (2ᵏ segments per octave), the polynomial's argument is x = a·u + b in
+//! [−1, 1) (exact: a is a power of two), with a and b stored with the
+//! segment. The cost is the same for every shape exponent δ. The segments
+//! cover u^δ from 2⁻²² to 20 (where S differs from Fs, and from Fc, by
+//! more than 2.4e-7·(Fs − Fc)); k is chosen per δ so that they fit: a
+//! segment then spans 0.82 to 1.64 in δ·log₂u, over which the error is
+//! below 1.2e-6·(Fs − Fc) (1.16e-6 measured against `f64` for δ from 0.1 to
+//! 8, in the tests: `MAX_STRIBECK_ERROR`). Below the table S is Fs; above
+//! it, Fc. For δ below 0.82 the 32 octaves of the table do not reach down
+//! to u^δ = 2⁻²² (for δ = 0.7, to u = 1.6e-8); below them S is evaluated as
+//! e^(−e^(δ·ln u)) by the [`fastmath`] kernels (about 100 instructions more
+//! on a Cortex-M4F). RAM: the table is [`STRIBECK_TABLE_BYTES`] (1 280)
+//! per model; building it costs 8·[`STRIBECK_SEGMENTS`] evaluations of S by
+//! the [`fastmath`] kernels (`new_model_f32` in
 //! [`cargo xtask profile`](https://github.com/breakaway-rs/breakaway/blob/main/docs/cycle-budget.md)).
 //!
 //! **g(w)**: from 2⁻²⁴ to 0.875, four segments per octave of w, picked by
@@ -40,10 +41,10 @@ use crate::scalar::Curves;
 include!(concat!(env!("OUT_DIR"), "/curve_tables.rs"));
 
 /// Segments of a model's Stribeck table.
-pub const STRIBECK_SEGMENTS: usize = 64;
+pub const STRIBECK_SEGMENTS: usize = 32;
 
 /// One segment of the Stribeck table: x = scale·u + offset maps it to
-/// [−1, 1), then S = Σ_m c_m·xᵐ: `[scale, offset, c_0, …, c_6]`.
+/// [−1, 1), then S = Σ_m c_m·xᵐ: `[scale, offset, c_0, …, c_7]`.
 type Segment = [f32; STRIBECK_COEFFICIENTS + 2];
 
 /// Bytes of a model's Stribeck table (its segments), in the model.
@@ -65,7 +66,7 @@ pub struct CurvesF32 {
     rise: f32,
     /// 1/V [s/m].
     inv_v: f32,
-    /// The shape exponent δ (below the table when δ < 0.41).
+    /// The shape exponent δ (below the table when δ < 0.82).
     delta: f32,
     stribeck: StribeckTable,
 }
@@ -81,7 +82,7 @@ struct StribeckTable {
     /// (bits of u) >> shift of the first segment.
     base: u32,
     /// Below the first segment S is Fs to within 2.4e-7·(Fs − Fc); when
-    /// `false` (δ < 0.41), it is evaluated by the fastmath kernels there.
+    /// `false` (δ < 0.82), it is evaluated by the fastmath kernels there.
     steady_below: bool,
     /// The segments, from u = 2ᴱ·(1 + j/2ᵏ) for base = (E + 127)·2ᵏ + j.
     segments: [Segment; STRIBECK_SEGMENTS],
@@ -113,18 +114,23 @@ impl StribeckTable {
         }
     }
 
-    /// Tabulates `s` (S of u as plain numbers) for the shape exponent δ.
-    fn build(delta: f32, s: impl Fn(f32) -> f32) -> Self {
+    /// An empty table (every u outside it), to fill with
+    /// [`fill`](Self::fill).
+    const EMPTY: Self = Self {
+        shift: 23,
+        base: u32::MAX,
+        steady_below: true,
+        segments: [[0.0; STRIBECK_COEFFICIENTS + 2]; STRIBECK_SEGMENTS],
+    };
+
+    /// Tabulates `s` (S of u as plain numbers) for the shape exponent δ, in
+    /// place (the table is not copied through the stack).
+    fn fill(&mut self, delta: f32, s: impl Fn(f32) -> f32) {
         let (split, base, steady_below) = Self::window(delta);
         let shift = 23u32.wrapping_sub(split);
-        let mut table = Self {
-            shift,
-            base,
-            steady_below,
-            segments: [[0.0; STRIBECK_COEFFICIENTS + 2]; STRIBECK_SEGMENTS],
-        };
+        (self.shift, self.base, self.steady_below) = (shift, base, steady_below);
         let mut index = base;
-        for segment in table.segments.iter_mut() {
+        for segment in self.segments.iter_mut() {
             // The segment starts at u0 (bits index << shift) in the octave
             // [2ᴱ, 2ᴱ⁺¹) and spans 2ᴱ⁻ᵏ: x in [−1, 1) maps to
             // u0 + (x + 1)·2ᴱ⁻ᵏ⁻¹.
@@ -156,7 +162,6 @@ impl StribeckTable {
                 .wrapping_add(1) as f32);
             index = index.wrapping_add(1);
         }
-        table
     }
 }
 
@@ -172,16 +177,23 @@ impl Curves<f32> for CurvesF32 {
     }
 
     fn build(p: &Params) -> Self {
+        let mut curves = Self {
+            fc: p.fc,
+            rise: 0.0,
+            inv_v: 1.0,
+            delta: 1.0,
+            stribeck: StribeckTable::EMPTY,
+        };
+        curves.rebuild(p);
+        curves
+    }
+
+    /// Fills the Stribeck table in place.
+    fn rebuild(&mut self, p: &Params) {
         let (fc, rise, delta) = (p.fc, p.fs - p.fc, p.delta);
-        Self {
-            fc,
-            rise,
-            inv_v: 1.0 / p.v_stribeck,
-            delta,
-            stribeck: StribeckTable::build(delta, |u| {
-                fc + rise * fastmath::exp_neg(power(u, delta))
-            }),
-        }
+        (self.fc, self.rise, self.inv_v, self.delta) = (fc, rise, 1.0 / p.v_stribeck, delta);
+        self.stribeck
+            .fill(delta, |u| fc + rise * fastmath::exp_neg(power(u, delta)));
     }
 
     #[inline(always)]
@@ -190,11 +202,11 @@ impl Curves<f32> for CurvesF32 {
         let bits = u.to_bits();
         let table = &self.stribeck;
         let index = (bits >> table.shift).wrapping_sub(table.base);
-        if let Some(&[scale, offset, c0, c1, c2, c3, c4, c5, c6]) =
+        if let Some(&[scale, offset, c0, c1, c2, c3, c4, c5, c6, c7]) =
             table.segments.get(index as usize)
         {
             let x = offset + u * scale;
-            return c0 + x * (c1 + x * (c2 + x * (c3 + x * (c4 + x * (c5 + x * c6)))));
+            return c0 + x * (c1 + x * (c2 + x * (c3 + x * (c4 + x * (c5 + x * (c6 + x * c7))))));
         }
         self.stribeck_outside(u)
     }
@@ -207,7 +219,7 @@ impl Curves<f32> for CurvesF32 {
 
 impl CurvesF32 {
     /// S outside the table: Fc above it (u^δ > 20, or u = +∞), Fs below
-    /// it, or, below a table that does not reach u^δ = 2⁻²² (δ < 0.41),
+    /// it, or, below a table that does not reach u^δ = 2⁻²² (δ < 0.82),
     /// by the fastmath kernels.
     #[inline(never)]
     fn stribeck_outside(&self, u: f32) -> f32 {
@@ -307,9 +319,9 @@ mod tests {
     use std::println;
 
     /// Largest error of S against f64, relative to Fs − Fc, for δ from 0.1
-    /// to 8 (measured 9.5e-7, at δ = 0.81, where k = 0 and a segment spans
-    /// 0.81 in δ·log₂u; 3e-7 of it is the rounding of S itself).
-    const MAX_STRIBECK_ERROR: f64 = 1.2e-6;
+    /// to 8 (measured 1.16e-6, at δ = 6.6, where a segment spans 1.6 in
+    /// δ·log₂u; about 3e-7 of it is the rounding of S itself).
+    const MAX_STRIBECK_ERROR: f64 = 1.5e-6;
     /// Largest absolute error of g against f64 (measured 8.1e-8, mostly
     /// the rounding of g itself near 1).
     const MAX_SHAPE_ERROR: f64 = 1e-7;

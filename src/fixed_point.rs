@@ -299,6 +299,16 @@ impl<const K: usize> Scalar for Q16<K> {
     fn saturate(self) -> Self {
         self
     }
+    /// The rounded product without the saturation check: exact as long as
+    /// it fits, which the callers guarantee (|product| ≤ 256 < 32768).
+    #[inline(always)]
+    fn mul_in_range(self, rhs: Self) -> Self {
+        #[cfg(not(breakaway_armv6m))]
+        let rounded = mul_wide(self.to_bits(), rhs.to_bits());
+        #[cfg(breakaway_armv6m)]
+        let rounded = mul_split(self.to_bits(), rhs.to_bits());
+        Self::from_bits(rounded as i32)
+    }
     /// Force in units of Fs, velocity in units of V, length in units of
     /// z_max/256.
     fn units(params: &Params) -> Units {

@@ -368,10 +368,12 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
         stribeck: T,
     ) -> T {
         let travel = self.along(position.travel_from(start.position, self.scale));
-        let w = travel * model.inv_z_max;
+        // In range: see `Scalar::mul_in_range`.
+        let w = travel.mul_in_range(model.inv_z_max);
         if w < T::ONE {
             let g = model.curves.shape(w);
-            return start.dry + (stribeck - start.dry) * g;
+            // |S − H_r| ≤ 2·Fs, g in [0, 1]: in range.
+            return start.dry + (stribeck - start.dry).mul_in_range(g);
         }
         self.base = start;
         self.base_saturated = true;
@@ -402,7 +404,7 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
             let span = self.along(target.position.travel_from(start.position, self.scale));
             if travel < span {
                 let g = model.curves.shape(travel / span);
-                return start.dry + (target.dry - start.dry) * g;
+                return start.dry + (target.dry - start.dry).mul_in_range(g);
             }
             // Passed the previous turning point: the minor loop closes and
             // the branch that led to the target resumes.

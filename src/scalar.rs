@@ -81,6 +81,16 @@ pub trait Scalar:
         }
     }
 
+    /// `self`·`rhs` where the caller knows the exact product to be far
+    /// inside the range (|self·rhs| ≤ 256 at most): a fixed-point type
+    /// skips its saturation check. The model uses it where the bound holds
+    /// by construction: a force difference (|ΔH| ≤ 2·Fs) times g ∈ [0, 1],
+    /// and a saturated travel (≤ 128·z_max in fixed point) times 1/z_max.
+    #[inline(always)]
+    fn mul_in_range(self, rhs: Self) -> Self {
+        self * rhs
+    }
+
     /// The smaller of two numbers.
     #[inline(always)]
     fn min(self, other: Self) -> Self {

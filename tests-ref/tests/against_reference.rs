@@ -110,7 +110,7 @@ fn break_away_matches_reference_within_1e_4() {
 /// The per-model Stribeck table (`breakaway::curves`) over the whole
 /// admitted range of δ: trajectories as above with δ log-uniform from 0.1
 /// to 10, where the table splits each octave into 2ᵏ segments, k from 0
-/// to 4, and, below δ = 0.41, the table does not reach down to S = Fs and
+/// to 3, and, below δ = 0.82, the table does not reach down to S = Fs and
 /// the kernels take over below it.
 #[test]
 fn friction_matches_reference_within_1e_5_fs_for_every_delta() {
