@@ -630,27 +630,18 @@ impl<const K: usize, const E: usize> OctaveTable<K, E> {
         if r == 0 {
             return self.zero;
         }
-        // r ≠ 0: 2ᵉ ≤ r < 2ᵉ⁺¹. The shifts and differences below stay
-        // within [0, 32) by construction.
+        // r ≠ 0: 2ᵉ ≤ r < 2ᵉ⁺¹.
         let e = floor_log2(r);
         if e as usize >= E {
             return self.end;
         }
-        let offset = r.wrapping_sub(1 << e);
-        let (j, frac14) = if e >= Self::LOG_K {
-            // s fractional bits below the grid: interpolate on 14 of them.
-            let s = e.wrapping_sub(Self::LOG_K);
-            let frac = offset & (1u32 << s).wrapping_sub(1);
-            let frac14 = if s >= 14 {
-                frac >> s.wrapping_sub(14)
-            } else {
-                frac << 14u32.wrapping_sub(s)
-            };
-            (offset >> s, frac14)
-        } else {
-            // Every raw value is a grid point.
-            (offset << Self::LOG_K.wrapping_sub(e), 0)
-        };
+        // r with its leading one at bit 31 (e ≤ 31): the next log2 K bits
+        // are the column j, the 14 after them the interpolation fraction
+        // (0 when r is a grid point, as every r below K is). The shifts
+        // stay within [0, 32) by construction (2 ≤ log2 K ≤ 8).
+        let normalized = r << 31u32.wrapping_sub(e);
+        let j = (normalized << 1) >> 32u32.wrapping_sub(Self::LOG_K);
+        let frac14 = (normalized << Self::LOG_K.wrapping_add(1)) >> 18;
         let index = (e as usize).wrapping_mul(K).wrapping_add(j as usize);
         let flat = self.rows.as_flattened();
         let y0 = flat.get(index).map_or(self.end, |&c| cell_value(c));
