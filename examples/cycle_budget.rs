@@ -507,8 +507,8 @@ mod stack {
 #[no_mangle]
 #[inline(never)]
 fn stack_pass(counts: &[i32; SAMPLES]) {
-    for group in 0..DELTAS.len() {
-        let bench = bench(DELTAS[group](), counts);
+    for (group, marker) in DELTAS.iter().enumerate() {
+        let bench = bench(marker(), counts);
         let delta = bench.model.params().delta;
         for &(name, pass) in passes(group) {
             stack::paint();
