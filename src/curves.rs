@@ -50,6 +50,11 @@ type Segment = [f32; STRIBECK_COEFFICIENTS + 2];
 /// Bytes of a model's Stribeck table (its segments), in the model.
 pub const STRIBECK_TABLE_BYTES: usize = core::mem::size_of::<[Segment; STRIBECK_SEGMENTS]>();
 
+/// Bytes of the `f32` shape tables in flash (shared by every model): g by
+/// segment from 2⁻²⁴ to 1, and ln m by segment below 2⁻²⁴.
+pub const SHAPE_TABLE_BYTES: usize =
+    core::mem::size_of_val(&SHAPE_F32) + core::mem::size_of_val(&LN_MANTISSA);
+
 /// The table covers u^δ from 2^LOW_EXPONENT: below, 1 − e^(−u^δ) < 2.4e-7.
 const LOW_EXPONENT: f32 = -22.0;
 /// The table covers u^δ up to 20: above, e^(−u^δ) < 2.1e-9.

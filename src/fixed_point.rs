@@ -864,6 +864,69 @@ mod tests {
         assert!(fast > 100_000, "{fast}");
     }
 
+    /// The lookup as it was written before the normalized form: a branch
+    /// on the octave, the column and the fraction by shifts of the offset.
+    fn lookup_by_octave<const K: usize, const E: usize>(t: &OctaveTable<K, E>, r: u32) -> i32 {
+        if r == 0 {
+            return t.zero;
+        }
+        let e = 31 - r.leading_zeros();
+        if e as usize >= E {
+            return t.end;
+        }
+        let log_k = K.trailing_zeros();
+        let offset = r - (1 << e);
+        let (j, frac14) = if e >= log_k {
+            let s = e - log_k;
+            let frac = offset & ((1u32 << s) - 1);
+            let frac14 = if s >= 14 {
+                frac >> (s - 14)
+            } else {
+                frac << (14 - s)
+            };
+            (offset >> s, frac14)
+        } else {
+            (offset << (log_k - e), 0)
+        };
+        let index = e as usize * K + j as usize;
+        let flat = t.rows.as_flattened();
+        let y0 = flat.get(index).map_or(t.end, |&c| cell_value(c));
+        if frac14 == 0 {
+            return y0;
+        }
+        let y1 = flat.get(index + 1).map_or(t.end, |&c| cell_value(c));
+        y0 + ((y1 - y0) * frac14 as i32 >> 14)
+    }
+
+    /// The normalized lookup equals the octave-branch one on the g table
+    /// and on S tables, at every raw argument below 2¹⁷ and at random ones.
+    #[test]
+    fn lookup_matches_octave_branches() {
+        let curves = TableCurves::<16>::build(&Params {
+            fc: 1.0,
+            fs: 1.5,
+            v_stribeck: 1e-3,
+            delta: 0.7,
+            sigma: 0.0,
+            z_max: 1e-5,
+            epsilon: 0.0,
+        });
+        let mut x: u64 = 0x2545_f491_4f6c_dd1d;
+        for r in (0..1u32 << 17).chain((0..1_000_000).map(|_| {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (x as u32) >> (x >> 59)
+        })) {
+            assert_eq!(SHAPE.lookup(r), lookup_by_octave(&SHAPE, r), "g at {r}");
+            assert_eq!(
+                curves.stribeck.lookup(r),
+                lookup_by_octave(&curves.stribeck, r),
+                "S at {r}"
+            );
+        }
+    }
+
     #[test]
     fn floor_log2_of_every_bit_position() {
         for e in 0..32u32 {
