@@ -895,7 +895,7 @@ mod tests {
             return y0;
         }
         let y1 = flat.get(index + 1).map_or(t.end, |&c| cell_value(c));
-        y0 + ((y1 - y0) * frac14 as i32 >> 14)
+        y0 + (((y1 - y0) * frac14 as i32) >> 14)
     }
 
     /// The normalized lookup equals the octave-branch one on the g table
