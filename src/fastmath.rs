@@ -1,20 +1,19 @@
-//! `exp` and `ln` in `f32`, shaped for the per-sample path.
+//! `exp` and `ln` in `f32`, without the special-case branches of a general
+//! `expf`/`logf`.
 //!
 //! `libm`'s `expf` and `logf` are general: they branch on special values and on
 //! the size of the argument before they reach their polynomial. The model knows
-//! more: the Stribeck curve needs e^(−p) for p ≥ 0 only, and the presliding
-//! shape needs ln w for a normal w in (0, 0.9]. The kernels here take those
-//! domains without the checks, with errors of about two units in the last place
-//! (measured against `f64` in the tests: `MAX_EXP_ERROR`, `MAX_LN_ERROR`), far
-//! inside the model's 1e-5·Fs budget;
-//! [`cargo xtask profile`](https://github.com/breakaway-rs/breakaway/blob/main/docs/cycle-budget.md)
-//! shows their cost. `libm` remains in use where time does not matter
-//! (construction, the phase curve).
+//! more: the Stribeck curve needs e^(−p) for p ≥ 0 only. The kernels here take
+//! those domains without the checks, with errors of about two units in the
+//! last place (measured against `f64` in the tests: `MAX_EXP_ERROR`,
+//! `MAX_LN_ERROR`), far inside the model's 1e-5·Fs budget. The per-sample
+//! path no longer calls them ([`curves`](crate::curves) evaluates S from a
+//! per-model table and g from a table in flash): they build the Stribeck
+//! table at construction, and evaluate S below the table for δ < 0.82.
+//! `libm` remains in use for the phase curve.
 //!
 //! Measured errors: e^(−p) 3.7e-6 relative at p = 87 (growing with p), below
-//! 4e-8 absolute for any p; ln 1.3e-7; the shape g(w) built on them
-//! ([`shape_f32`](crate::shape_f32)) 1.35e-7 absolute, and monotone to
-//! the last bit near w = 1, where it is evaluated by its series in 1 − w.
+//! 4e-8 absolute for any p; ln 1.3e-7.
 //!
 //! - e^x: x = n·ln 2 + r with |r| ≤ ln 2 / 2 (Cody–Waite split of ln 2),
 //!   e^r by a degree-5 polynomial fitted for the least maximum relative

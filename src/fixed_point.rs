@@ -211,20 +211,24 @@ fn mul_exact_split(a: i32, b: i32) -> i64 {
     high.wrapping_add(middle).wrapping_add(low)
 }
 
+/// `x` saturated to `i32`. In range when its high word is the sign of its
+/// low word: one comparison of 32-bit halves (the 64-bit comparisons with
+/// both limits cost about ten instructions on ARMv7-M, more on ARMv6-M).
 #[inline(always)]
 fn saturate_i32(x: i64) -> i32 {
-    if x > i64::from(i32::MAX) {
-        i32::MAX
-    } else if x < i64::from(i32::MIN) {
+    let low = x as i32;
+    if (x >> 32) as i32 == low >> 31 {
+        low
+    } else if x < 0 {
         i32::MIN
     } else {
-        x as i32
+        i32::MAX
     }
 }
 
-/// ⌊log2 r⌋ for r > 0: the `clz` instruction on ARMv7-M; a five-step
-/// binary search on ARMv6-M, which has none (the library call costs twice as
-/// much).
+/// ⌊log2 r⌋ for r > 0: the `clz` instruction on ARMv7-M; on ARMv6-M,
+/// which has none (the library call costs more), two halving steps and a
+/// table of ⌊log2⌋ of a byte ([`LOG2_BYTE`], 256 bytes of flash).
 #[inline(always)]
 fn floor_log2(r: u32) -> u32 {
     #[cfg(not(breakaway_armv6m))]
@@ -233,22 +237,33 @@ fn floor_log2(r: u32) -> u32 {
     }
     #[cfg(breakaway_armv6m)]
     {
-        floor_log2_search(r)
+        floor_log2_table(r)
     }
 }
 
-/// ⌊log2 r⌋ for r > 0 by binary search over the bit positions.
+/// ⌊log2 b⌋ of a byte b (0 for b = 0), generated at compile time (where
+/// an index or a sum out of range would be a compile error, not a panic).
+#[cfg_attr(not(breakaway_armv6m), allow(dead_code))]
+#[allow(clippy::indexing_slicing, clippy::arithmetic_side_effects)]
+const LOG2_BYTE: [u8; 256] = {
+    let mut table = [0u8; 256];
+    let mut b = 2;
+    while b < 256 {
+        table[b] = table[b / 2] + 1;
+        b += 1;
+    }
+    table
+};
+
+/// ⌊log2 r⌋ for r > 0: the top non-zero byte of r from two halving steps,
+/// then [`LOG2_BYTE`].
 #[inline(always)]
 #[cfg_attr(not(breakaway_armv6m), allow(dead_code))]
-fn floor_log2_search(r: u32) -> u32 {
-    let (mut x, mut e) = (r, 0u32);
-    for shift in [16u32, 8, 4, 2, 1] {
-        if x >> shift != 0 {
-            x >>= shift;
-            e |= shift;
-        }
-    }
-    e
+fn floor_log2_table(r: u32) -> u32 {
+    let (x, e) = if r >> 16 != 0 { (r >> 16, 16) } else { (r, 0) };
+    let (x, e) = if x >> 8 != 0 { (x >> 8, e | 8) } else { (x, e) };
+    // x < 256 here.
+    e | u32::from(LOG2_BYTE.get(x as usize).copied().unwrap_or(0))
 }
 
 impl<const K: usize> Div for Q16<K> {
@@ -298,6 +313,16 @@ impl<const K: usize> Scalar for Q16<K> {
     #[inline(always)]
     fn saturate(self) -> Self {
         self
+    }
+    /// The rounded product without the saturation check: exact as long as
+    /// it fits, which the callers guarantee (|product| ≤ 256 < 32768).
+    #[inline(always)]
+    fn mul_in_range(self, rhs: Self) -> Self {
+        #[cfg(not(breakaway_armv6m))]
+        let rounded = mul_wide(self.to_bits(), rhs.to_bits());
+        #[cfg(breakaway_armv6m)]
+        let rounded = mul_split(self.to_bits(), rhs.to_bits());
+        Self::from_bits(rounded as i32)
     }
     /// Force in units of Fs, velocity in units of V, length in units of
     /// z_max/256.
@@ -369,6 +394,8 @@ pub struct CountScale {
     mantissa: i32,
     /// Binary exponent, 0 to [`Self::MAX_SHIFT`].
     shift: u32,
+    /// 32 − shift for shift in 1..=32; 32 (no fast path) otherwise.
+    pre: u32,
 }
 
 impl CountScale {
@@ -400,6 +427,11 @@ impl CountScale {
         Some(Self {
             mantissa: raw as i32,
             shift,
+            pre: if (1..=32).contains(&shift) {
+                32u32.wrapping_sub(shift)
+            } else {
+                32
+            },
         })
     }
 
@@ -415,17 +447,50 @@ impl CountScale {
     /// `counts` × the scale in raw Q16.16 units, rounded to nearest and
     /// saturated: one exact 64-bit product (|counts·mantissa| < 2⁶², so
     /// nothing overflows) and one rounding shift on its 32-bit halves.
+    ///
+    /// Fast path, for a count difference below 2^(shift − 1) in magnitude
+    /// (any travel within 128·z_max when the scale has shift ≤ 32, that is
+    /// an encoder of up to 3·10⁷ counts per z_max): counts·2^(32 − shift)
+    /// still fits 32 bits, and the result is the high word of its product
+    /// with the mantissa, rounded: the same value, which is below 2³⁰ in
+    /// magnitude and needs no saturation. Else the full product is shifted
+    /// and saturated.
     #[inline(always)]
     fn apply<const K: usize>(self, counts: i32) -> Q16<K> {
-        #[cfg(not(breakaway_armv6m))]
-        let product = i64::from(counts).wrapping_mul(i64::from(self.mantissa));
-        #[cfg(breakaway_armv6m)]
-        let product = mul_exact_split(counts, self.mantissa);
+        if self.pre < 32 {
+            let scaled = counts.wrapping_shl(self.pre);
+            if scaled >> self.pre == counts {
+                let product = exact_product(scaled, self.mantissa);
+                // |product| < 2⁶²: adding 2³¹ cannot overflow.
+                return Q16::from_bits((product.wrapping_add(1 << 31) >> 32) as i32);
+            }
+        }
+        self.apply_wide(counts)
+    }
+
+    /// [`apply`](Self::apply) for any count difference.
+    #[inline(never)]
+    fn apply_wide<const K: usize>(self, counts: i32) -> Q16<K> {
+        let product = exact_product(counts, self.mantissa);
         Q16::from_bits(if self.shift == 0 {
             saturate_i32(product)
         } else {
             shift_round((product >> 32) as i32, product as u32, self.shift)
         })
+    }
+}
+
+/// a·b exactly: one `smull` on ARMv7-M, four 16-bit products on ARMv6-M
+/// ([`mul_exact_split`]).
+#[inline(always)]
+fn exact_product(a: i32, b: i32) -> i64 {
+    #[cfg(not(breakaway_armv6m))]
+    {
+        i64::from(a).wrapping_mul(i64::from(b))
+    }
+    #[cfg(breakaway_armv6m)]
+    {
+        mul_exact_split(a, b)
     }
 }
 
@@ -565,27 +630,18 @@ impl<const K: usize, const E: usize> OctaveTable<K, E> {
         if r == 0 {
             return self.zero;
         }
-        // r ≠ 0: 2ᵉ ≤ r < 2ᵉ⁺¹. The shifts and differences below stay
-        // within [0, 32) by construction.
+        // r ≠ 0: 2ᵉ ≤ r < 2ᵉ⁺¹.
         let e = floor_log2(r);
         if e as usize >= E {
             return self.end;
         }
-        let offset = r.wrapping_sub(1 << e);
-        let (j, frac14) = if e >= Self::LOG_K {
-            // s fractional bits below the grid: interpolate on 14 of them.
-            let s = e.wrapping_sub(Self::LOG_K);
-            let frac = offset & (1u32 << s).wrapping_sub(1);
-            let frac14 = if s >= 14 {
-                frac >> s.wrapping_sub(14)
-            } else {
-                frac << 14u32.wrapping_sub(s)
-            };
-            (offset >> s, frac14)
-        } else {
-            // Every raw value is a grid point.
-            (offset << Self::LOG_K.wrapping_sub(e), 0)
-        };
+        // r with its leading one at bit 31 (e ≤ 31): the next log2 K bits
+        // are the column j, the 14 after them the interpolation fraction
+        // (0 when r is a grid point, as every r below K is). The shifts
+        // stay within [0, 32) by construction (2 ≤ log2 K ≤ 8).
+        let normalized = r << 31u32.wrapping_sub(e);
+        let j = (normalized << 1) >> 32u32.wrapping_sub(Self::LOG_K);
+        let frac14 = (normalized << Self::LOG_K.wrapping_add(1)) >> 18;
         let index = (e as usize).wrapping_mul(K).wrapping_add(j as usize);
         let flat = self.rows.as_flattened();
         let y0 = flat.get(index).map_or(self.end, |&c| cell_value(c));
@@ -781,12 +837,102 @@ mod tests {
         }
     }
 
+    /// The fast path of `CountScale::apply` equals the full product,
+    /// shifted and saturated, for random scales and count differences.
+    #[test]
+    fn count_scale_fast_path_matches_wide_path() {
+        let mut x: u64 = 0x9e37_79b9_7f4a_7c15;
+        let mut next = || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            x
+        };
+        let mut fast = 0;
+        for _ in 0..1_000_000 {
+            let units = 2f32.powf((next() % 4000) as f32 / 100.0 - 25.0);
+            let Some(scale) = CountScale::new(units) else {
+                continue;
+            };
+            let counts = (next() as i32) >> (next() % 32);
+            let want: Q16 = scale.apply_wide(counts);
+            assert_eq!(scale.apply::<16>(counts), want, "{units} × {counts}");
+            if scale.pre < 32 && (counts << scale.pre) >> scale.pre == counts {
+                fast += 1;
+            }
+        }
+        assert!(fast > 100_000, "{fast}");
+    }
+
+    /// The lookup as it was written before the normalized form: a branch
+    /// on the octave, the column and the fraction by shifts of the offset.
+    fn lookup_by_octave<const K: usize, const E: usize>(t: &OctaveTable<K, E>, r: u32) -> i32 {
+        if r == 0 {
+            return t.zero;
+        }
+        let e = 31 - r.leading_zeros();
+        if e as usize >= E {
+            return t.end;
+        }
+        let log_k = K.trailing_zeros();
+        let offset = r - (1 << e);
+        let (j, frac14) = if e >= log_k {
+            let s = e - log_k;
+            let frac = offset & ((1u32 << s) - 1);
+            let frac14 = if s >= 14 {
+                frac >> (s - 14)
+            } else {
+                frac << (14 - s)
+            };
+            (offset >> s, frac14)
+        } else {
+            (offset << (log_k - e), 0)
+        };
+        let index = e as usize * K + j as usize;
+        let flat = t.rows.as_flattened();
+        let y0 = flat.get(index).map_or(t.end, |&c| cell_value(c));
+        if frac14 == 0 {
+            return y0;
+        }
+        let y1 = flat.get(index + 1).map_or(t.end, |&c| cell_value(c));
+        y0 + (((y1 - y0) * frac14 as i32) >> 14)
+    }
+
+    /// The normalized lookup equals the octave-branch one on the g table
+    /// and on S tables, at every raw argument below 2¹⁷ and at random ones.
+    #[test]
+    fn lookup_matches_octave_branches() {
+        let curves = TableCurves::<16>::build(&Params {
+            fc: 1.0,
+            fs: 1.5,
+            v_stribeck: 1e-3,
+            delta: 0.7,
+            sigma: 0.0,
+            z_max: 1e-5,
+            epsilon: 0.0,
+        });
+        let mut x: u64 = 0x2545_f491_4f6c_dd1d;
+        for r in (0..1u32 << 17).chain((0..1_000_000).map(|_| {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (x as u32) >> (x >> 59)
+        })) {
+            assert_eq!(SHAPE.lookup(r), lookup_by_octave(&SHAPE, r), "g at {r}");
+            assert_eq!(
+                curves.stribeck.lookup(r),
+                lookup_by_octave(&curves.stribeck, r),
+                "S at {r}"
+            );
+        }
+    }
+
     #[test]
     fn floor_log2_of_every_bit_position() {
         for e in 0..32u32 {
             for r in [1u32 << e, (1u32 << e) | ((1u32 << e) - 1)] {
                 assert_eq!(floor_log2(r), e);
-                assert_eq!(floor_log2_search(r), e);
+                assert_eq!(floor_log2_table(r), e);
             }
         }
     }

@@ -155,6 +155,8 @@ pub struct Presliding<P: Position<T> = f32, T: Scalar = f32, const N: usize = 0>
     scale: P::Scale,
     /// d ∈ {−1, 0, +1}; 0 only while idle.
     direction: i8,
+    /// d as a number (±1; +1 while idle): d·x is x.signed(sign).
+    sign: T,
     /// Start of the branch in force when the memory is empty.
     base: TurningPoint<T, P>,
     /// The base branch has reached gross sliding (w = 1).
@@ -196,6 +198,7 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
         Self {
             scale,
             direction: 0,
+            sign: T::ONE,
             base: TurningPoint {
                 position: start,
                 dry: T::ZERO,
@@ -236,21 +239,23 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
                 self.direction = 1;
             } else if moved < T::ZERO {
                 self.direction = -1;
+                self.sign = -T::ONE;
             } else {
                 self.force = viscous.saturate();
                 return Ok(self.force);
             }
         }
         let ahead = self.along(position.travel_from(self.extremum, self.scale));
-        if ahead >= T::ZERO {
-            self.extremum = position;
-            self.dry = self.follow(model, position, velocity);
-        } else if -ahead > model.epsilon {
+        if ahead < T::ZERO {
+            if -ahead <= model.epsilon {
+                // A reversal is pending inside the deadband: H is held.
+                self.force = (self.dry + viscous).saturate();
+                return Ok(self.force);
+            }
             self.reverse();
-            self.extremum = position;
-            self.dry = self.follow(model, position, velocity);
         }
-        // else: a reversal is pending inside the deadband; H is held.
+        self.extremum = position;
+        self.dry = self.follow(model, position, velocity);
         // |H| ≤ Fs ≤ f32::MAX/4, so only σ·v can overflow (to ±∞, never NaN).
         self.force = (self.dry + viscous).saturate();
         Ok(self.force)
@@ -291,17 +296,32 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
     /// `x` signed by the direction of motion: d·x.
     #[inline(always)]
     fn along(&self, x: T) -> T {
-        if self.direction < 0 {
-            -x
-        } else {
-            x
-        }
+        x.signed(self.sign)
     }
 
     /// A confirmed reversal at the extremum: it becomes the turning point of
     /// a new branch in the opposite direction.
-    #[inline(never)]
+    #[inline(always)]
     fn reverse(&mut self) {
+        if N == 0 {
+            // What `reverse_memory` does with no memory, without the call.
+            self.base = TurningPoint {
+                position: self.extremum,
+                dry: self.dry,
+            };
+            self.base_is_target = false;
+            self.base_saturated = false;
+        } else {
+            self.reverse_memory();
+        }
+        // d is ±1 here.
+        self.direction = self.direction.wrapping_neg();
+        self.sign = -self.sign;
+    }
+
+    /// [`reverse`](Self::reverse) with a memory of turning points.
+    #[inline(never)]
+    fn reverse_memory(&mut self) {
         let turning_point = TurningPoint {
             position: self.extremum,
             dry: self.dry,
@@ -321,7 +341,6 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
             }
             self.base_saturated = false;
         }
-        self.direction = if self.direction > 0 { -1 } else { 1 };
     }
 
     /// Dry friction H on the current branch at `position`, the extremum of
@@ -349,10 +368,12 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
         stribeck: T,
     ) -> T {
         let travel = self.along(position.travel_from(start.position, self.scale));
-        let w = travel * model.inv_z_max;
+        // In range: see `Scalar::mul_in_range`.
+        let w = travel.mul_in_range(model.inv_z_max);
         if w < T::ONE {
             let g = model.curves.shape(w);
-            return start.dry + (stribeck - start.dry) * g;
+            // |S − H_r| ≤ 2·Fs, g in [0, 1]: in range.
+            return start.dry + (stribeck - start.dry).mul_in_range(g);
         }
         self.base = start;
         self.base_saturated = true;
@@ -383,7 +404,7 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
             let span = self.along(target.position.travel_from(start.position, self.scale));
             if travel < span {
                 let g = model.curves.shape(travel / span);
-                return start.dry + (target.dry - start.dry) * g;
+                return start.dry + (target.dry - start.dry).mul_in_range(g);
             }
             // Passed the previous turning point: the minor loop closes and
             // the branch that led to the target resumes.

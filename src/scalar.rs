@@ -71,6 +71,26 @@ pub trait Scalar:
         }
     }
 
+    /// `self`·`sign` for `sign` = ±1: −`self` for a negative `sign`.
+    #[inline(always)]
+    fn signed(self, sign: Self) -> Self {
+        if sign < Self::ZERO {
+            -self
+        } else {
+            self
+        }
+    }
+
+    /// `self`·`rhs` where the caller knows the exact product to be far
+    /// inside the range (|self·rhs| ≤ 256 at most): a fixed-point type
+    /// skips its saturation check. The model uses it where the bound holds
+    /// by construction: a force difference (|ΔH| ≤ 2·Fs) times g ∈ [0, 1],
+    /// and a saturated travel (≤ 128·z_max in fixed point) times 1/z_max.
+    #[inline(always)]
+    fn mul_in_range(self, rhs: Self) -> Self {
+        self * rhs
+    }
+
     /// The smaller of two numbers.
     #[inline(always)]
     fn min(self, other: Self) -> Self {
@@ -145,6 +165,11 @@ impl Scalar for f32 {
     #[inline(always)]
     fn is_finite(self) -> bool {
         f32::is_finite(self)
+    }
+    /// One multiply, exact for ±1.
+    #[inline(always)]
+    fn signed(self, sign: Self) -> Self {
+        self * sign
     }
     #[inline(always)]
     fn saturate(self) -> Self {

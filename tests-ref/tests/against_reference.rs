@@ -106,3 +106,71 @@ fn break_away_matches_reference_within_1e_4() {
         worst.0, worst.1
     );
 }
+
+/// The per-model Stribeck table (`breakaway::curves`) over the whole
+/// admitted range of δ: trajectories as above with δ log-uniform from 0.1
+/// to 10, where the table splits each octave into 2ᵏ segments, k from 0
+/// to 3, and, below δ = 0.82, the table does not reach down to S = Fs and
+/// the kernels take over below it.
+#[test]
+fn friction_matches_reference_within_1e_5_fs_for_every_delta() {
+    let mut runner = runner(300);
+    let cases = (
+        params(0.3..3.0),
+        -1.0f32..1.0, // log10 δ
+        trajectory(20.0),
+    );
+    let worst = Mutex::new((0.0f64, String::new()));
+    runner
+        .run(&cases, |(p, log_delta, segments)| {
+            let p = Params {
+                delta: 10f32.powf(log_delta),
+                ..p
+            };
+            let error = friction_error(&p, &segments);
+            record(&worst, error, || format!("{p:?}"));
+            prop_assert!(error <= 1e-5, "|ΔF| = {error:e}·Fs for {p:?}");
+            Ok(())
+        })
+        .unwrap();
+    let worst = worst.lock().unwrap();
+    println!(
+        "friction, δ in [0.1, 10]: worst |F_f32 − F_f64| = {:.3e}·Fs ({})",
+        worst.0, worst.1
+    );
+}
+
+/// S(v) of the table against the reference at velocities log-uniform over
+/// 40 decades (both sides of the table, inside and outside it), δ
+/// log-uniform from 0.05 to 20: within 2e-6·Fs.
+#[test]
+fn stribeck_matches_reference_over_every_velocity_and_delta() {
+    let mut runner = runner(2000);
+    let cases = (params(0.3..3.0), -1.3f32..1.3, -30.0f32..10.0);
+    let worst = Mutex::new((0.0f64, String::new()));
+    runner
+        .run(&cases, |(p, log_delta, log_u)| {
+            let p = Params {
+                delta: 10f32.powf(log_delta),
+                ..p
+            };
+            let model = Model::<f32>::new(p).unwrap();
+            let judge = reference_model(&p);
+            for sign in [1.0f32, -1.0] {
+                let v = sign * 10f32.powf(log_u) * p.v_stribeck;
+                let error = (f64::from(model.stribeck(v))
+                    - reference::curves::stribeck(&judge, f64::from(v)))
+                .abs()
+                    / f64::from(p.fs);
+                record(&worst, error, || format!("v = {v:e}, {p:?}"));
+                prop_assert!(error <= 2e-6, "|ΔS| = {error:e}·Fs at v = {v:e}, {p:?}");
+            }
+            Ok(())
+        })
+        .unwrap();
+    let worst = worst.lock().unwrap();
+    println!(
+        "Stribeck, δ in [0.05, 20], |v| from 1e-30·V to 1e10·V: worst |S_f32 − S_f64| = {:.3e}·Fs ({})",
+        worst.0, worst.1
+    );
+}

@@ -246,6 +246,14 @@ fn print_model_sizes() {
         "g table (flash, every K): {} bytes\n",
         breakaway::fixed_point::SHAPE_TABLE_BYTES
     );
+    println!(
+        "Model<f32> in RAM: {} bytes, of which the Stribeck table ({} segments) {} bytes; \
+         the g tables are shared, in flash: {} bytes\n",
+        size_of::<Model<f32>>(),
+        breakaway::curves::STRIBECK_SEGMENTS,
+        breakaway::curves::STRIBECK_TABLE_BYTES,
+        breakaway::curves::SHAPE_TABLE_BYTES
+    );
 }
 
 fn print_table(rows: &[Row], options: &Options) {
