@@ -1,7 +1,7 @@
 //! Development aid: the residual of a fixed model along a record, as CSV
 //! (`t,x,v,u,still,weight,var,r`), for looking at what the metric sees.
 //!
-//! `cargo run -p breakaway-lab --release --example dump_residual -- DATA MODEL.toml [K]`
+//! `cargo run -p breakaway-lab --release --example dump_residual -- DATA MODEL.toml [K [KF]]`
 
 use breakaway_lab::data;
 use breakaway_lab::fit::Prepared;
@@ -29,7 +29,14 @@ fn main() {
             std::process::exit(1);
         }
     };
-    let mut p = Prepared::new(&rec, k);
+    let kf = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(k);
+    let mut p = Prepared::with_window(
+        &rec,
+        breakaway_lab::fit::Window {
+            velocity: k,
+            force: kf,
+        },
+    );
     let r0 = p.residual(&model);
     let s0 = p.set_error_weights(&model, &r0);
     eprintln!("sigma0 {s0}, floor {}", p.floor(None));

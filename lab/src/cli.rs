@@ -25,7 +25,7 @@ pub const DEFAULT_WB: f64 = 0.95;
 /// Most points a number list may expand to.
 pub const MAX_POINTS: usize = 100_000;
 /// The range of `--window` (Savitzky–Golay half-width, samples).
-pub const WINDOW_RANGE: std::ops::RangeInclusive<u64> = 2..=50;
+pub const WINDOW_RANGE: std::ops::RangeInclusive<u64> = 2..=64;
 
 /// The command line of `breakaway-lab`.
 #[derive(Clone, Debug, Parser)]
@@ -242,10 +242,12 @@ pub struct ClosedLoopArgs {
     pub svg: Option<PathBuf>,
 }
 
-/// `--window K`: the Savitzky–Golay half-width of the differentiator.
+/// `--window K`: the Savitzky–Golay half-width of the differentiator (both
+/// the velocity estimate and the force kernel).
 #[derive(Clone, Debug, Args)]
 pub struct WindowArg {
-    /// Savitzky-Golay half-width in samples, 2..50 (default: chosen from the
+    /// Savitzky-Golay half-width in samples, 2..64, for the velocity and the
+    /// force kernel alike (default: velocity 4, force kernel chosen from the
     /// data).
     #[arg(
         long = "window",
@@ -657,7 +659,7 @@ mod tests {
             ("validity-map --model m.toml --masses 0,1", "--masses"),
             ("diagnose d.csv --candidates offset,viscus", "viscus"),
             ("diagnose d.csv --window 1", "--window"),
-            ("diagnose d.csv --window 51", "--window"),
+            ("diagnose d.csv --window 65", "--window"),
             ("diagnose", "DATA"),
             ("fit d.csv e.csv", "e.csv"),
             ("validate d.csv", "--model"),

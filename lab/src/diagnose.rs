@@ -43,6 +43,33 @@ use std::f64::consts::PI;
 /// lab/README.md).
 pub const ACCEPT_GAIN: f64 = 0.05;
 
+/// Least size of a named effect: the RMS of the force it adds along the
+/// measured motion (moving samples), in units of the per-sample force
+/// noise ([`visibility`]). The smallest effects the workflow is asked to
+/// find are 3× the noise; a candidate below 2× only absorbs the rest of a
+/// model error (on effect-free development records, a `frictional_lag` of
+/// τ = 1.2 ms and an `asymmetry` of 6e-5 were named that way).
+pub const MIN_VISIBILITY: f64 = 2.0;
+
+/// RMS [N] of the force that `effect` adds to `m` along the measured
+/// motion (moving samples), over the per-sample force noise the floor
+/// assumes (`σ0/‖W‖`, [`Prepared::sigma0`]).
+pub fn visibility(p: &Prepared, m: &Model, effect: Effect) -> f64 {
+    let with = p.friction(m);
+    let without = p.friction(&remove_effect(m, effect, p));
+    let (mut s, mut n) = (0.0, 0usize);
+    for i in p.valid().filter(|&i| !p.still[i]) {
+        s += (with[i] - without[i]).powi(2);
+        n += 1;
+    }
+    let w_norm = p.kernel.iter().map(|w| w * w).sum::<f64>().sqrt();
+    let noise = p.sigma0 / w_norm;
+    if n == 0 || !(noise > 0.0) {
+        return f64::INFINITY;
+    }
+    (s / n as f64).sqrt() / noise
+}
+
 /// Least relative reduction per added parameter (a candidate with `p` new
 /// parameters needs `max(ACCEPT_GAIN, p·ACCEPT_GAIN_PER_PARAM)`;
 /// `dwell_stiction` counts its grid-chosen `v_rest`). A periodic term with
@@ -85,8 +112,8 @@ pub const MAX_ROUNDS: usize = 4;
 /// Options of the workflow.
 #[derive(Clone, Debug)]
 pub struct Options {
-    /// Savitzky–Golay half-width.
-    pub half_width: usize,
+    /// Savitzky–Golay half-widths.
+    pub window: fit::Window,
     /// Candidate effects considered; all when empty.
     pub candidates: Vec<Effect>,
 }
@@ -94,7 +121,7 @@ pub struct Options {
 impl Default for Options {
     fn default() -> Self {
         Options {
-            half_width: fit::DEFAULT_HALF_WIDTH,
+            window: fit::Window::both(fit::DEFAULT_HALF_WIDTH),
             candidates: Vec::new(),
         }
     }
@@ -165,8 +192,10 @@ pub struct RegimeStat {
 pub struct Report {
     /// Samples, interval, resolution.
     pub n: usize,
-    /// Savitzky–Golay half-width used (samples).
+    /// Half-width of the force kernel (samples).
     pub half_width: usize,
+    /// Half-width of the velocity estimate (samples).
+    pub velocity_half_width: usize,
     /// Median sampling interval [s].
     pub dt: f64,
     /// Position resolution [m].
@@ -1242,7 +1271,7 @@ pub fn diagnose(
     opts: &Options,
     progress: &mut Progress,
 ) -> Report {
-    let mut p = Prepared::new(rec, opts.half_width);
+    let mut p = Prepared::with_window(rec, opts.window);
     let mut show = |s: &str| progress.show(s);
     // Error-in-variables weights from the start model, fixed from here on:
     // every figure compared below uses them.
@@ -1325,6 +1354,9 @@ pub fn diagnose(
             if degenerate(&p, &fitted, effect).is_some() {
                 continue;
             }
+            if visibility(&p, &fitted, effect) < MIN_VISIBILITY {
+                continue;
+            }
             let (c_rms, _) = held_rms(&p, &fitted);
             let score = bic(&p, c_rms, fit::params_of(&fitted).len()) - bic_cur;
             cands.push(Candidate {
@@ -1369,9 +1401,9 @@ pub fn diagnose(
     // An added effect is dropped when the model refitted without it is
     // held-out within its required gain of the final one.
     let mut pruned = Vec::new();
-    if steps.len() > 1 {
+    if !steps.is_empty() {
         let mut k = 0;
-        while k < steps.len() && steps.len() > 1 {
+        while k < steps.len() {
             let effect = steps[k].effect;
             show(&format!("backward check: {effect}"));
             let without = remove_effect(&model, effect, &p);
@@ -1465,7 +1497,8 @@ pub fn diagnose(
         pruned,
         swapped,
         n: p.len(),
-        half_width: p.k,
+        half_width: p.kf,
+        velocity_half_width: p.k,
         dt: p.dt,
         resolution: p.resolution,
         given,
@@ -1591,6 +1624,7 @@ pub fn report_json(rep: &Report) -> String {
         "model": model_json(&rep.model),
         "samples": rep.n,
         "window": rep.half_width,
+        "velocity_window": rep.velocity_half_width,
         "dt": rep.dt,
         "resolution": rep.resolution,
     });

@@ -56,37 +56,90 @@ pub const REST_COUNT_RATE: f64 = 0.02;
 
 /// Default half-width `k` of the Savitzky–Golay window (samples).
 pub const DEFAULT_HALF_WIDTH: usize = 5;
-/// Half-width [`auto_window`] starts from (samples). Shorter windows blur
-/// the motion least: on the independent example records the true model's
-/// residual is at the noise-and-resolution floor with `k = 3, 4`, and
-/// 0.01–0.05 N above it with `k = 5` (smoothing bias, which the floor does
-/// not contain).
+/// Half-width of the velocity estimate [`auto_window`] chooses (samples).
+/// Shorter windows blur the motion least: on the independent example
+/// records the true model's residual is at the noise-and-resolution floor
+/// with `k = 3, 4`, and 0.01–0.05 N above it with `k = 5` (smoothing bias
+/// of `v̂`, which the floor does not contain); the quantisation of `m·â` is
+/// the force kernel's business ([`Window`]).
 pub const AUTO_HALF_WIDTH: usize = 4;
 
-/// Largest half-width [`auto_window`] chooses.
-pub const MAX_AUTO_HALF_WIDTH: usize = 12;
+/// Half-widths [samples] of the two Savitzky–Golay windows of a record.
+///
+/// The velocity `v̂` that the friction is evaluated at, and the still rule,
+/// use `velocity`; the force balance is filtered by the kernel `W` of
+/// half-width `force` on both sides (`W∗(ū − F)` against `m·â`, `â` from
+/// the same window), so a long force kernel adds no model bias: it only
+/// low-passes what is compared. It divides the encoder quantisation of
+/// `m·â` by `(K_f/k)^2.5` and the force noise by `(K_f/k)^0.5`, and keeps
+/// what varies slower than the kernel (every catalogue effect at the
+/// speeds of the records).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Window {
+    /// Half-width of the velocity estimate `v̂` and of the still rule.
+    pub velocity: usize,
+    /// Half-width of the force kernel `W` and of `â`.
+    pub force: usize,
+}
+
+impl Window {
+    /// Both half-widths `k`.
+    pub fn both(k: usize) -> Window {
+        Window {
+            velocity: k,
+            force: k,
+        }
+    }
+}
+
+/// Largest force half-width [`auto_window`] chooses (samples).
+pub const MAX_AUTO_HALF_WIDTH: usize = 64;
+
+/// Least time span [s] of the force half-width [`auto_window`] chooses:
+/// ±32 samples at 1 kHz. On the development records (seeds 9000–9039,
+/// 9200–9229) the true model's model error fell 5–50× from ±4 to ±32
+/// while that of the model without the hidden effect stayed (e.g. 0.016
+/// against 0.85 N at ±32, 0.17 against 0.74 N at ±4); ±64 and ±100 went on
+/// shrinking both, and a position ripple's share began to fall.
+pub const FORCE_WINDOW_SPAN: f64 = 0.032;
 
 /// Ratio of the quantisation noise of `m·â` to the filtered force noise up
-/// to which [`auto_window`] keeps [`AUTO_HALF_WIDTH`].
-pub const MAX_QUANTISATION_RATIO: f64 = 100.0;
+/// to which [`auto_window`] keeps the force half-width; above it the
+/// kernel grows (a heavy axis with a fine encoder).
+pub const MAX_QUANTISATION_RATIO: f64 = 10.0;
 
-/// The Savitzky–Golay half-width for `rec`, from the data alone.
+/// The two half-widths for `rec`, from the data alone: the velocity
+/// [`AUTO_HALF_WIDTH`], the force kernel [`FORCE_WINDOW_SPAN`] (in
+/// samples), longer when the quantisation of `m·â` still exceeds the
+/// filtered force noise [`MAX_QUANTISATION_RATIO`]-fold, at most
+/// [`MAX_AUTO_HALF_WIDTH`].
 ///
-/// A correct model's residual has two noise parts at half-width `k`: the
-/// force noise filtered by the force kernel, `σ_f·‖W_k‖`, and the encoder
-/// quantisation of `m·â`, `m·(q/√12)·‖c2_k‖/h²`, which falls like
-/// `k^−2.5`. A heavy axis with a fine encoder and a clean force signal can
-/// have the second a thousand times the first: then no effect stands out.
-/// The window starts at [`AUTO_HALF_WIDTH`] and grows, up to
-/// [`MAX_AUTO_HALF_WIDTH`], only while the ratio exceeds
-/// [`MAX_QUANTISATION_RATIO`] (a longer window also blurs the motion, a
-/// bias the floor does not contain). `m` comes from a linear least-squares
-/// fit of `ū = m·â + Fc·sgn(v̂)` on the faster half of the moving samples,
-/// `σ_f` from the logged force alone ([`force_noise`]; it used to come from
-/// a model's residual, where the very quantisation of `m·â` it is compared
-/// with inflated it a hundredfold on a 50 kg axis, so the window never
-/// grew there). Deterministic per record, independent of any model.
-pub fn auto_window(rec: &crate::data::Record) -> usize {
+/// A correct model's residual has two noise parts at force half-width
+/// `K`: the force noise filtered by the kernel, `σ_f·‖W_K‖`, and the
+/// encoder quantisation of `m·â`, `m·(q/√12)·‖c2_K‖/h²`, which falls like
+/// `K^−2.5`. `m` comes from a linear least-squares fit of
+/// `ū = m·â + Fc·sgn(v̂)` on the faster half of the moving samples, `σ_f`
+/// from the logged force alone ([`force_noise`]). Before version 4 one
+/// half-width served both, and it stayed at 4–12 because a long velocity
+/// window blurs `F(v̂)`; heavy axes kept floors of 20–100× the force noise.
+/// Deterministic per record, independent of any model.
+pub fn auto_window(rec: &crate::data::Record) -> Window {
+    let span = (FORCE_WINDOW_SPAN / rec.dt()).round();
+    let floor = if span.is_finite() {
+        (span as usize).clamp(AUTO_HALF_WIDTH, MAX_AUTO_HALF_WIDTH)
+    } else {
+        AUTO_HALF_WIDTH
+    };
+    Window {
+        velocity: AUTO_HALF_WIDTH,
+        force: quantisation_window(rec).max(floor),
+    }
+}
+
+/// The smallest force half-width (from [`AUTO_HALF_WIDTH`] up to
+/// [`MAX_AUTO_HALF_WIDTH`]) at which the quantisation noise of `m·â` is at
+/// most [`MAX_QUANTISATION_RATIO`] times the filtered force noise.
+fn quantisation_window(rec: &crate::data::Record) -> usize {
     let p = Prepared::new(rec, DEFAULT_HALF_WIDTH);
     let mut speeds: Vec<f64> = p
         .valid()
@@ -170,8 +223,11 @@ pub struct Prepared {
     pub a: Vec<f64>,
     /// Force kernel `W_j`, `j = −k … k`.
     pub kernel: Vec<f64>,
-    /// Half-width `k`.
+    /// Half-width `k` of the velocity estimate and of the still rule.
     pub k: usize,
+    /// Half-width of the force kernel and of `â` (≥ `k` when chosen by
+    /// [`auto_window`]).
+    pub kf: usize,
     /// Sample weight (0 outside the valid range `k … n−k`).
     pub weight: Vec<f64>,
     /// Held-out flag per sample.
@@ -197,6 +253,9 @@ pub struct Prepared {
     /// Still by the window rule alone (position within one count over
     /// `i−k … i+k`), before [`Prepared::mark_stops`] adds the stops.
     window_still: Vec<bool>,
+    /// Standard deviation of the noise on the logged force [N]
+    /// ([`force_noise`] of the record's `u`).
+    pub force_noise: f64,
     /// Variance of the residual of a correct model at each sample [N²]
     /// (noise and resolution, [`Prepared::set_error_weights`]); `σ0²` until
     /// then.
@@ -237,25 +296,33 @@ fn force_kernel(c2: &[f64]) -> Vec<f64> {
 }
 
 impl Prepared {
-    /// Prepares `rec` with half-width `k` (≥ 2).
-    #[allow(clippy::needless_range_loop)] // several arrays indexed together
+    /// Prepares `rec` with half-width `k` (≥ 2) for both windows.
     pub fn new(rec: &crate::data::Record, k: usize) -> Prepared {
+        Self::with_window(rec, Window::both(k))
+    }
+
+    /// Prepares `rec` with the half-widths of `window` (each ≥ 2).
+    #[allow(clippy::needless_range_loop)] // several arrays indexed together
+    pub fn with_window(rec: &crate::data::Record, window: Window) -> Prepared {
+        let Window {
+            velocity: k,
+            force: kf,
+        } = window;
         let n = rec.len();
         let dt = rec.dt();
         let xs = Self::despiked(&rec.x);
         let xs = &xs;
-        let (c1, c2) = sg_coefficients(k);
+        let (c1, _) = sg_coefficients(k);
+        let (_, c2) = sg_coefficients(kf);
         let kernel = force_kernel(&c2);
         let mut v = vec![0.0; n];
         let mut a = vec![0.0; n];
         for i in k..n.saturating_sub(k) {
-            let (mut sv, mut sa) = (0.0, 0.0);
-            for (j, (p, q)) in c1.iter().zip(&c2).enumerate() {
-                let xi = xs[i + j - k];
-                sv += p * xi;
-                sa += q * xi;
-            }
+            let sv: f64 = c1.iter().enumerate().map(|(j, p)| p * xs[i + j - k]).sum();
             v[i] = sv / dt;
+        }
+        for i in kf..n.saturating_sub(kf) {
+            let sa: f64 = c2.iter().enumerate().map(|(j, q)| q * xs[i + j - kf]).sum();
             a[i] = sa / (dt * dt);
         }
         // Edges: one-sided differences for the velocity (the friction memory
@@ -319,6 +386,7 @@ impl Prepared {
             a,
             kernel,
             k,
+            kf,
             weight: vec![0.0; n],
             held_out: vec![false; n],
             resolution,
@@ -329,6 +397,7 @@ impl Prepared {
             u_still,
             var: vec![0.0; n],
             sigma0: 0.0,
+            force_noise: force_noise(&rec.u),
         };
         p.set_split();
         p.set_weights();
@@ -378,9 +447,10 @@ impl Prepared {
         self.t.is_empty()
     }
 
-    /// Indices with a residual (`k … n−k`).
+    /// Indices with a residual (`K … n−K`, `K` the larger half-width).
     pub fn valid(&self) -> std::ops::Range<usize> {
-        self.k..self.len().saturating_sub(self.k)
+        let k = self.k.max(self.kf);
+        k..self.len().saturating_sub(k)
     }
 
     fn set_split(&mut self) {
@@ -433,9 +503,12 @@ impl Prepared {
     /// var_i = σ0² + (q²/12)·(Σ_j W_j·|∂F/∂x|_{i+j})² + σ_v²·(Σ_j W_j·|∂F/∂v|_{i+j})²
     /// ```
     ///
-    /// * `σ0` [N]: force noise and the quantisation error of `m·â`, from
-    ///   differences of the residual `2k+1` samples apart in fast sliding
-    ///   (which slowly varying effects do not reach; a robust median);
+    /// * `σ0` [N]: the force noise through the kernel, the lower of two
+    ///   upper bounds: differences of the residual `2K+1` samples apart in
+    ///   fast sliding (a robust median; a missing effect that varies along
+    ///   the motion inflates it, which on a heavy axis with a position
+    ///   ripple made it 250× the noise through the kernel and hid every effect), and
+    ///   `σ_f·‖W‖` with `σ_f` from the logged force ([`force_noise`]);
     /// * `q` [m] the encoder count, propagated through the presliding
     ///   stiffness `∂H/∂x = (d·S − H_r)·(−ln w)/z_max` (huge right after a
     ///   turning point);
@@ -449,7 +522,7 @@ impl Prepared {
     /// same weights. Returns `σ0`.
     pub fn set_error_weights(&mut self, m: &Model, r: &[f64]) -> f64 {
         self.mark_stops(m);
-        let lag = 2 * self.k + 1;
+        let lag = 2 * self.kf + 1;
         let q2 = self.resolution * self.resolution / 12.0;
         // Quantisation error of `m·â`: present wherever a second difference
         // of the counts falls inside the window (an exactly constant count
@@ -460,8 +533,8 @@ impl Prepared {
         let mut curved = vec![false; n];
         for i in 1..n.saturating_sub(1) {
             if self.x[i + 1] - 2.0 * self.x[i] + self.x[i - 1] != 0.0 {
-                let lo = i.saturating_sub(self.k + 1);
-                let hi = (i + self.k + 1).min(n - 1);
+                let lo = i.saturating_sub(self.kf + 1);
+                let hi = (i + self.kf + 1).min(n - 1);
                 for c in &mut curved[lo..=hi] {
                     *c = true;
                 }
@@ -477,7 +550,7 @@ impl Prepared {
         let pairs = |straight: bool| -> Vec<f64> {
             let mut d: Vec<f64> = self
                 .valid()
-                .filter(|&i| i + lag < n - self.k)
+                .filter(|&i| i + lag < self.valid().end)
                 .filter(|&i| self.v[i].abs() >= fast && self.v[i + lag].abs() >= fast)
                 .filter(|&i| !self.still[i] && !self.still[i + lag])
                 .filter(|&i| !straight || !(curved[i] || curved[i + lag]))
@@ -494,12 +567,23 @@ impl Prepared {
         // record has enough of them, else from all fast windows less the
         // quantisation part.
         let straight = pairs(true);
+        // The force noise seen through the kernel, from the logged force
+        // alone: an upper bound too (Δ³u also holds the command's own fast
+        // variations), but one that no missing effect inflates. The lower
+        // of the two bounds is taken.
+        let w_norm = self.kernel.iter().map(|w| w * w).sum::<f64>().sqrt();
+        let from_data = self.force_noise * w_norm;
         let sigma0 = match robust(&straight) {
             Some(s) if straight.len() >= 200 && s > 0.0 => s,
             _ => match robust(&pairs(false)) {
                 Some(s) if s > 0.0 => (s * s - var_acc).max(0.01 * s * s).sqrt(),
                 _ => 1e-3 * m.fc,
             },
+        };
+        let sigma0 = if from_data > 0.0 {
+            sigma0.min(from_data)
+        } else {
+            sigma0
         };
         let (sx, sv) = self.sensitivities(m);
         let c1_norm = 1.0 / ((self.k * (self.k + 1) * (2 * self.k + 1)) as f64 / 3.0).sqrt();
@@ -560,9 +644,9 @@ impl Prepared {
     /// `‖c2‖`, the norm of the Savitzky–Golay second-derivative
     /// coefficients (per sample²).
     fn c2_norm(&self) -> f64 {
-        let kf = self.k as f64;
+        let kf = self.kf as f64;
         let mu2 = kf * (kf + 1.0) / 3.0;
-        let d: f64 = (0..=2 * self.k)
+        let d: f64 = (0..=2 * self.kf)
             .map(|i| (i as f64 - kf).powi(2) - mu2)
             .map(|e| e * e)
             .sum();
@@ -656,7 +740,7 @@ impl Prepared {
     pub fn filter_at(&self, s: &[f64], i: usize) -> f64 {
         let mut acc = 0.0;
         for (j, w) in self.kernel.iter().enumerate() {
-            acc += w * s[i + j - self.k];
+            acc += w * s[i + j - self.kf];
         }
         acc
     }

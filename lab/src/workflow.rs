@@ -5,7 +5,7 @@
 use crate::cli::{DiagnoseArgs, FitArgs, StaticCurveArgs, SynthArgs, ValidateArgs, WindowArg};
 use crate::data::{self, Record};
 use crate::diagnose::{self, Options};
-use crate::fit::{self, FitOptions, Prepared};
+use crate::fit::{self, FitOptions, Prepared, Window};
 use crate::progress::Progress;
 use crate::reference::Model;
 use crate::synth::{self, SynthSpec};
@@ -51,7 +51,7 @@ fn not_input(out: &Path, inputs: &[&Path]) -> Result<(), Error> {
     Ok(())
 }
 
-fn load_data(path: &Path, window: Option<usize>) -> Result<(Record, usize), Error> {
+fn load_data(path: &Path, window: Option<usize>) -> Result<(Record, Window), Error> {
     let rec = data::load(path)?;
     let enough = |k: usize| {
         if rec.len() < 20 * k + 20 {
@@ -66,10 +66,18 @@ fn load_data(path: &Path, window: Option<usize>) -> Result<(Record, usize), Erro
         }
     };
     let min_window = enough(window.unwrap_or(fit::DEFAULT_HALF_WIDTH))?;
-    let window = window.unwrap_or_else(|| {
-        fit::auto_window(&rec).min((rec.len().saturating_sub(20) / 20).max(min_window))
-    });
-    enough(window)?;
+    let window = match window {
+        Some(k) => Window::both(k),
+        None => {
+            let w = fit::auto_window(&rec);
+            let most = (rec.len().saturating_sub(20) / 20).max(min_window);
+            Window {
+                velocity: w.velocity.min(most),
+                force: w.force.min(most),
+            }
+        }
+    };
+    enough(window.velocity.max(window.force))?;
     Ok((rec, window))
 }
 
@@ -135,7 +143,7 @@ pub fn fit(args: FitArgs, out: &mut dyn Write) -> Result<(), Error> {
         not_input(o, &inputs)?;
     }
     let mut progress = Progress::stderr();
-    let mut p = Prepared::new(&rec, window);
+    let mut p = Prepared::with_window(&rec, window);
     let m0 = match &start {
         Some(m) => m.clone(),
         None => diagnose::initial_base(&p, &mut |s| progress.show(s)),
@@ -184,7 +192,7 @@ pub fn validate(args: ValidateArgs, out: &mut dyn Write) -> Result<(), Error> {
     } = args;
     let (rec, window) = load_data(&data, window)?;
     let m = load_model(&model)?;
-    let mut p = Prepared::new(&rec, window);
+    let mut p = Prepared::with_window(&rec, window);
     // The weights come from the data's base model, not from the
     // model under test: two models validated on one record are
     // compared with the same weights.
@@ -270,10 +278,7 @@ pub fn diagnose(args: DiagnoseArgs, out: &mut dyn Write) -> Result<(), Error> {
     }
     let (rec, window) = load_data(&data, window)?;
     let start = model.as_deref().map(load_model).transpose()?;
-    let opts = Options {
-        half_width: window,
-        candidates,
-    };
+    let opts = Options { window, candidates };
     let mut progress = Progress::stderr();
     let rep = diagnose::diagnose(&rec, start.as_ref(), &opts, &mut progress);
     if let Some(j) = &json {
