@@ -440,12 +440,15 @@ pub fn closed_loop_fixed(target: Target) -> Result<String, String> {
     )
 }
 
-/// Bounds of the on-target closed loop through the encoder: the count
+/// Bounds of the on-target closed loop through the 1 µm encoder: the count
 /// ⌊x/q⌋ flips at slightly different instants in the MCU's f32 plant than
-/// in the host's f64 one, and the loop amplifies the difference in the
-/// errors (measured: up to 16 % on a peak error, 13 % on an RMS error); the
-/// effort stays within 0.1 %.
+/// in the host's f64 one, and the loop amplifies the difference. The RMS
+/// error and the effort average it out (relative bounds); the peak
+/// reversal error of the observer rows depends on where the counts fall at
+/// the reversal (on the host it moves by up to 30 % between neighbouring
+/// velocity bandwidths), so it is only held within a factor.
 const ENCODER_ERROR_BOUND: f64 = 0.25;
+const ENCODER_PEAK_FACTOR: f64 = 2.0;
 const ENCODER_EFFORT_BOUND: f64 = 0.01;
 
 fn compare_closed_loop(
@@ -489,6 +492,8 @@ fn compare_closed_loop(
         ));
     }
     let (mut worst_error, mut worst_effort) = (0.0f64, 0.0f64);
+    let (mut worst_encoder_error, mut worst_encoder_effort) = (0.0f64, 0.0f64);
+    let mut worst_peak_factor = 1.0f64;
     let mut summary = Vec::new();
     for ((line, fields), &(compensator, encoder)) in rows.iter().zip(runs) {
         let printed_encoder = field(fields, 2, line)?;
@@ -511,19 +516,36 @@ fn compare_closed_loop(
         } else {
             (CLOSED_LOOP_ERROR_BOUND, CLOSED_LOOP_EFFORT_BOUND)
         };
-        for (i, expected, bound) in [
+        if encoder > 0.0 {
+            let got = field(fields, 4, line)?;
+            let ratio = got / want.peak_reversal_error;
+            worst_peak_factor = worst_peak_factor.max(ratio.max(1.0 / ratio));
+            if !(ratio <= ENCODER_PEAK_FACTOR && ratio >= 1.0 / ENCODER_PEAK_FACTOR) {
+                return Err(format!(
+                    "{example} on {}: `{line}` peak reversal error {got}, host {} (factor bound {ENCODER_PEAK_FACTOR})",
+                    target.core, want.peak_reversal_error
+                ));
+            }
+        }
+        let mut columns = vec![
             (3, want.rms_error, error_bound),
-            (4, want.peak_reversal_error, error_bound),
             (5, want.rms_effort, effort_bound),
-        ] {
+        ];
+        if encoder == 0.0 {
+            columns.push((4, want.peak_reversal_error, error_bound));
+        }
+        for (i, expected, bound) in columns {
             let got = field(fields, i, line)?;
             let error = ((got - expected) / expected).abs();
-            if encoder == 0.0 {
-                if i == 5 {
-                    worst_effort = worst_effort.max(error);
-                } else {
-                    worst_error = worst_error.max(error);
-                }
+            let (worst_error, worst_effort) = if encoder == 0.0 {
+                (&mut worst_error, &mut worst_effort)
+            } else {
+                (&mut worst_encoder_error, &mut worst_encoder_effort)
+            };
+            if i == 5 {
+                *worst_effort = worst_effort.max(error);
+            } else {
+                *worst_error = worst_error.max(error);
             }
             if error.is_nan() || error > bound {
                 return Err(format!(
@@ -542,7 +564,9 @@ fn compare_closed_loop(
     Ok(format!(
         "{example} on {}: peak reversal errors {}; ideal runs vs host worst {worst_error:.2e} on errors \
          (bound {CLOSED_LOOP_ERROR_BOUND}), {worst_effort:.2e} on effort (bound {CLOSED_LOOP_EFFORT_BOUND}); \
-         encoder runs within {ENCODER_ERROR_BOUND} and {ENCODER_EFFORT_BOUND}",
+         encoder runs worst {worst_encoder_error:.2e} on the RMS error (bound {ENCODER_ERROR_BOUND}), \
+         {worst_encoder_effort:.2e} on effort (bound {ENCODER_EFFORT_BOUND}), peak within a factor \
+         {worst_peak_factor:.2} (bound {ENCODER_PEAK_FACTOR})",
         target.core,
         summary.join(", ")
     ))
