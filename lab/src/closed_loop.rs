@@ -531,7 +531,7 @@ pub fn run(
         let (x_m, v_m) = sensor.read(plant.position(), plant.velocity())?;
         // The figures judge the true position; the controller sees x_m.
         let e = x_ref - plant.position();
-        if !(e.abs() < DIVERGED) {
+        if !e.is_finite() || e.abs() >= DIVERGED {
             return Err(format!(
                 "closed loop diverged: plant {}, compensator {}, drift {}, encoder {} m, |e| > {DIVERGED} m at t = {t:.3} s",
                 plant_kind.name(),

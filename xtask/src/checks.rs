@@ -520,7 +520,7 @@ fn compare_closed_loop(
             let got = field(fields, 4, line)?;
             let ratio = got / want.peak_reversal_error;
             worst_peak_factor = worst_peak_factor.max(ratio.max(1.0 / ratio));
-            if !(ratio <= ENCODER_PEAK_FACTOR && ratio >= 1.0 / ENCODER_PEAK_FACTOR) {
+            if !(1.0 / ENCODER_PEAK_FACTOR..=ENCODER_PEAK_FACTOR).contains(&ratio) {
                 return Err(format!(
                     "{example} on {}: `{line}` peak reversal error {got}, host {} (factor bound {ENCODER_PEAK_FACTOR})",
                     target.core, want.peak_reversal_error
