@@ -245,14 +245,21 @@ pub struct ClosedLoopArgs {
     pub svg: Option<PathBuf>,
     /// Standard deviation [N] of Gaussian noise on the force the plant
     /// receives (the controller knows only its command).
-    #[arg(long, value_name = "N", default_value_t = 0.0, value_parser = parse_non_negative)]
+    #[arg(
+        long,
+        value_name = "N",
+        default_value_t = 0.0,
+        value_parser = parse_non_negative,
+        allow_hyphen_values = true
+    )]
     pub force_noise: f64,
     /// Bandwidth [rad/s] of the disturbance observer (every +observer row).
     #[arg(
         long,
         value_name = "RAD_S",
         default_value_t = crate::closed_loop::OBSERVER_BANDWIDTH,
-        value_parser = parse_positive
+        value_parser = parse_positive,
+        allow_hyphen_values = true
     )]
     pub observer_bandwidth: f64,
     /// Bandwidth [rad/s] of the velocity estimator on the encoder counts.
@@ -260,7 +267,8 @@ pub struct ClosedLoopArgs {
         long,
         value_name = "RAD_S",
         default_value_t = crate::closed_loop::VELOCITY_BANDWIDTH,
-        value_parser = parse_positive
+        value_parser = parse_positive,
+        allow_hyphen_values = true
     )]
     pub velocity_bandwidth: f64,
 }
