@@ -1,8 +1,9 @@
 //! The closed-loop benchmark of `breakaway-lab closed-loop` on the MCU
-//! (`common/closed_loop.rs`) with the five `f32` compensators: none,
-//! Coulomb, Stribeck, presliding feedforward, and presliding feedforward
-//! with the disturbance observer and the level adaptation. Then `done`.
-//! xtask compares the figures with the host's f64 run.
+//! (`common/closed_loop.rs`) with the nine `f32` compensators (four
+//! feedforwards, each with and without the disturbance observer, and the
+//! presliding one with observer and level adaptation) measured ideally,
+//! then three of them through a 1 µm encoder. Then `done`. xtask compares
+//! the figures with the host's f64 run.
 #![no_std]
 #![no_main]
 #![allow(unsafe_code)] // cortex-m-rt's `#[exception]` handler is an `unsafe fn`
@@ -21,16 +22,30 @@ use cortex_m_rt::entry;
 use cortex_m_semihosting::hprintln;
 use harness::{Inputs, ADAPTATION_RATE, MASS, OBSERVER_BANDWIDTH, PERIOD};
 
-const NAMES: [&str; 5] = [
-    "none",
-    "coulomb",
-    "stribeck",
-    "presliding",
-    "presliding_observer",
+/// Compensators: (name, feedforward 0 none, 1 Coulomb, 2 Stribeck,
+/// 3 presliding; observer; adaptation), as the host benchmark names them.
+const COMPENSATORS: [(&str, u8, bool, bool); 9] = [
+    ("none", 0, false, false),
+    ("coulomb", 1, false, false),
+    ("stribeck", 2, false, false),
+    ("presliding", 3, false, false),
+    ("none+observer", 0, true, false),
+    ("coulomb+observer", 1, true, false),
+    ("stribeck+observer", 2, true, false),
+    ("presliding+observer", 3, true, false),
+    ("presliding+observer+adaptation", 3, true, true),
 ];
 
-/// Compensator `which` of [`NAMES`] through the benchmark.
-fn run(which: usize, model: &Model<f32>) -> Option<(f32, f32, f32)> {
+/// Runs through the 1 µm encoder.
+const ENCODER: f32 = 1e-6;
+const ENCODER_ROWS: [usize; 3] = [5, 3, 8];
+
+/// One compensator through the benchmark.
+fn run(
+    (_, feedforward, observe, adapt): (&str, u8, bool, bool),
+    model: &Model<f32>,
+    encoder: f32,
+) -> Option<(f32, f32, f32)> {
     let mut ff = Feedforward::<f32>::new(FeedforwardConfig::default(), 0.0, 1.0).ok()?;
     let mut observer = DisturbanceObserver::new(ObserverConfig {
         mass: MASS,
@@ -47,30 +62,28 @@ fn run(which: usize, model: &Model<f32>) -> Option<(f32, f32, f32)> {
     })
     .ok()?;
     let mut u_ff = 0.0f32;
-    harness::run(|i: &Inputs| {
-        Some(match which {
-            0 => 0.0,
-            1 => {
-                if i.v_ref > 0.0 {
-                    model.params().fc
-                } else if i.v_ref < 0.0 {
-                    -model.params().fc
-                } else {
-                    0.0
-                }
-            }
-            2 => model.steady_state(i.v_ref),
-            3 => ff.update(model, i.x_ref, i.v_ref).ok()?,
-            _ => {
-                let r = observer.update(i.command, i.velocity, u_ff).ok()?;
+    harness::run(encoder, |i: &Inputs| {
+        let residual = if observe {
+            let r = observer.update(i.command, i.velocity, u_ff).ok()?;
+            if adapt {
                 let theta = adaptation
                     .update(r, ff.dry(), i.v_ref, ff.is_sliding())
                     .ok()?;
                 ff.set_level_scale(theta);
-                u_ff = ff.update(model, i.x_ref, i.v_ref).ok()?;
-                u_ff + r
             }
-        })
+            r
+        } else {
+            0.0
+        };
+        u_ff = match feedforward {
+            0 => 0.0,
+            1 if i.v_ref > 0.0 => model.params().fc,
+            1 if i.v_ref < 0.0 => -model.params().fc,
+            1 => 0.0,
+            2 => model.steady_state(i.v_ref),
+            _ => ff.update(model, i.x_ref, i.v_ref).ok()?,
+        };
+        Some(u_ff + residual)
     })
 }
 
@@ -80,9 +93,13 @@ fn main() -> ! {
         common::exit_failure("invalid parameters");
     };
     harness::print_config();
-    for (which, name) in NAMES.iter().enumerate() {
-        match run(which, &model) {
-            Some((rms, peak, effort)) => hprintln!("cl {} {} {} {}", name, rms, peak, effort),
+    let runs = COMPENSATORS
+        .iter()
+        .map(|&c| (c, 0.0))
+        .chain(ENCODER_ROWS.iter().map(|&i| (COMPENSATORS[i], ENCODER)));
+    for (compensator, encoder) in runs {
+        match run(compensator, &model, encoder) {
+            Some(figures) => harness::print_row(compensator.0, encoder, figures),
             None => common::exit_failure("closed loop rejected a sample"),
         }
     }

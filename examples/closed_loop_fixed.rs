@@ -3,9 +3,9 @@
 //! compensators in Q16.16: the same `Feedforward`, `DisturbanceObserver`
 //! and `LevelAdaptation` code as the `f32` example, on a `Model<Q16>` built
 //! in place, the reference position read as 10 nm encoder counts. Rows
-//! `presliding` and `presliding_observer`, then `done`; xtask compares them
-//! with the host's f64 run of the `f32` compensators (errors within 5 %,
-//! effort within 1 %).
+//! `presliding` and `presliding+observer+adaptation`, measured ideally and
+//! through a 1 µm encoder, then `done`; xtask compares them with the host's
+//! f64 run of the `f32` compensators.
 #![no_std]
 #![no_main]
 #![allow(unsafe_code)] // cortex-m-rt's `#[exception]` handler is an `unsafe fn`
@@ -27,10 +27,17 @@ use harness::{Inputs, ADAPTATION_RATE, MASS, OBSERVER_BANDWIDTH, PERIOD};
 /// Metres per encoder count of the reference position.
 const COUNT: f32 = 1e-8;
 
-const NAMES: [&str; 2] = ["presliding", "presliding_observer"];
+/// (name, observer and adaptation, encoder [m per count]).
+const RUNS: [(&str, bool, f32); 4] = [
+    ("presliding", false, 0.0),
+    ("presliding+observer+adaptation", true, 0.0),
+    ("presliding", false, 1e-6),
+    ("presliding+observer+adaptation", true, 1e-6),
+];
 
-/// Compensator `which` of [`NAMES`] in Q16 through the benchmark.
-fn run(observe: bool, model: &Model<Q16>) -> Option<(f32, f32, f32)> {
+/// The presliding compensator in Q16, with the observer and the adaptation
+/// when `observe`, through the benchmark.
+fn run(observe: bool, model: &Model<Q16>, encoder: f32) -> Option<(f32, f32, f32)> {
     let units = model.units();
     let scale = model.position_scale::<i32>(COUNT)?;
     let mut ff =
@@ -50,7 +57,7 @@ fn run(observe: bool, model: &Model<Q16>) -> Option<(f32, f32, f32)> {
     };
     let mut adaptation = LevelAdaptation::<Q16>::with_units(adaptation_config, units).ok()?;
     let mut u_ff = Q16::ZERO;
-    harness::run(|i: &Inputs| {
+    harness::run(encoder, |i: &Inputs| {
         // The boundary: SI in f32 → counts and per-unit Q16.
         let count = libm::roundf(i.x_ref / COUNT) as i32;
         let v_ref = model.velocity(i.v_ref)?;
@@ -78,9 +85,9 @@ fn main() -> ! {
         common::exit_failure("invalid parameters");
     }
     harness::print_config();
-    for (which, name) in NAMES.iter().enumerate() {
-        match run(which == 1, &model) {
-            Some((rms, peak, effort)) => hprintln!("cl {} {} {} {}", name, rms, peak, effort),
+    for (name, observe, encoder) in RUNS {
+        match run(observe, &model, encoder) {
+            Some(figures) => harness::print_row(name, encoder, figures),
             None => common::exit_failure("closed loop rejected a sample"),
         }
     }

@@ -7,10 +7,16 @@
 //! with compensation). The compensator is the example's: a function of
 //! [`Inputs`] returning the compensation force [N].
 //!
+//! The controller measures either the plant's own position and velocity
+//! (`encoder` = 0) or an encoder's count ⌊x/q⌋, read as the centre of the
+//! count, and the library's `VelocityEstimator` on it, as the host
+//! benchmark does.
+//!
 //! Output: `cfg …` (the constants, which `cargo xtask test` checks against
-//! the host benchmark's), then per compensator `cl <name> <rms_error m>
+//! the host benchmark's), then per run `cl <name> <encoder m> <rms_error m>
 //! <peak_reversal_error m> <rms_effort N>`.
 
+use breakaway::compensation::{VelocityConfig, VelocityEstimator};
 use breakaway::{Model, Params, Presliding};
 use cortex_m_semihosting::hprintln;
 
@@ -29,6 +35,7 @@ const OMEGA: f32 = 125.0;
 pub const OBSERVER_BANDWIDTH: f32 = 100.0;
 pub const ADAPTATION_RATE: f32 = 1.0;
 const SUBSTEPS: u32 = 200;
+const VELOCITY_BANDWIDTH: f32 = 3000.0;
 
 /// The plant's parameters (`MODEL_PLANT` of the lab's benchmark).
 const PLANT: Params = Params {
@@ -55,7 +62,7 @@ pub struct Inputs {
 /// Prints the `cfg` line.
 pub fn print_config() {
     hprintln!(
-        "cfg {} {} {} {} {} {} {} {} {}",
+        "cfg {} {} {} {} {} {} {} {} {} {}",
         PERIOD,
         AMPLITUDE,
         FREQUENCY,
@@ -64,7 +71,8 @@ pub fn print_config() {
         OMEGA,
         OBSERVER_BANDWIDTH,
         ADAPTATION_RATE,
-        SUBSTEPS
+        SUBSTEPS,
+        VELOCITY_BANDWIDTH
     );
 }
 
@@ -92,9 +100,29 @@ impl Plant {
     }
 }
 
-/// Runs the loop with `compensate`; (rms_error [m], peak_reversal_error
-/// [m], rms_effort [N]), `None` when a sample was rejected.
-pub fn run(mut compensate: impl FnMut(&Inputs) -> Option<f32>) -> Option<(f32, f32, f32)> {
+/// Prints the `cl` line of a run.
+pub fn print_row(name: &str, encoder: f32, figures: (f32, f32, f32)) {
+    let (rms, peak, effort) = figures;
+    hprintln!("cl {} {} {} {} {}", name, encoder, rms, peak, effort);
+}
+
+/// Runs the loop with `compensate`, measuring through an encoder of
+/// `encoder` metres per count (0: ideal); (rms_error [m],
+/// peak_reversal_error [m], rms_effort [N]), `None` when a sample was
+/// rejected.
+pub fn run(
+    encoder: f32,
+    mut compensate: impl FnMut(&Inputs) -> Option<f32>,
+) -> Option<(f32, f32, f32)> {
+    let mut estimator = if encoder > 0.0 {
+        let config = VelocityConfig {
+            bandwidth: VELOCITY_BANDWIDTH,
+            period: PERIOD,
+        };
+        Some(VelocityEstimator::<i64>::new(config, encoder).ok()?)
+    } else {
+        None
+    };
     let mut plant = Plant {
         model: Model::new(PLANT).ok()?,
         friction: Presliding::at(0.0),
@@ -118,15 +146,25 @@ pub fn run(mut compensate: impl FnMut(&Inputs) -> Option<f32>) -> Option<(f32, f
             AMPLITUDE * w * s,
             AMPLITUDE * w * w * c,
         );
+        // The figures judge the true position; the controller sees x_m.
         let e = x_ref - plant.x - plant.x_lo;
+        let (e_m, v_m) = match estimator.as_mut() {
+            None => (e, plant.v),
+            Some(estimator) => {
+                // The centre of the count, as the host benchmark reads it.
+                let count = libm::floorf((plant.x + plant.x_lo) / encoder) as i64;
+                let x_m = (count as f32 + 0.5) * encoder;
+                (x_ref - x_m, estimator.update(count).ok()?)
+            }
+        };
         let compensation = compensate(&Inputs {
             x_ref,
             v_ref,
-            velocity: plant.v,
+            velocity: v_m,
             command: u,
         })?;
-        integral += e * PERIOD;
-        u = kp * e + ki * integral + kd * (v_ref - plant.v) + MASS * a_ref + compensation;
+        integral += e_m * PERIOD;
+        u = kp * e_m + ki * integral + kd * (v_ref - v_m) + MASS * a_ref + compensation;
         if n >= WINDOW {
             sum_e2 += e * e;
             sum_u2 += u * u;

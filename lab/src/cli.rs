@@ -60,15 +60,18 @@ pub enum Command {
     /// The model's mass is replaced by each of --masses. --markdown gives one
     /// drift table per variant, k down and m across.
     ValidityMap(ValidityArgs),
-    /// PID position loop with five friction compensators on two plants.
+    /// PID position loop with nine friction compensators on two plants,
+    /// measured through an encoder.
     ///
     /// Tracks x_ref = A*(1 - cos 2*pi*f*t) (A = 1 mm, f = 1 Hz) on a LuGre
-    /// plant and on a MODEL.md plant 20-30 % off the compensator, with the
-    /// compensators none, coulomb, stribeck, presliding,
-    /// presliding_observer; figures over t in [5 s, 8 s]: rms_error [m],
-    /// peak_reversal_error [m] (peak |e| within 50 ms after each reversal),
-    /// rms_effort [N]. Also the drift runs (plant Fc, or Fc and Fs, +20 % at
-    /// t = 2 s).
+    /// plant and on a MODEL.md plant 20-30 % off the compensator; position
+    /// from encoder counts (ideal, 1 um, 0.1 um per count), velocity from
+    /// the library's VelocityEstimator. Compensators none, coulomb,
+    /// stribeck, presliding, each also +observer, and
+    /// presliding+observer+adaptation; figures over t in [5 s, 8 s]:
+    /// rms_error [m], peak_reversal_error [m] (peak |e| within 50 ms after
+    /// each reversal), rms_effort [N]. Also the drift runs (plant Fc, or Fc
+    /// and Fs, +20 % at t = 2 s; 1 um encoder).
     ClosedLoop(ClosedLoopArgs),
     /// Where model and data disagree, and which effect of MODEL.md §5 is missing.
     ///
@@ -232,7 +235,7 @@ pub struct ValidityArgs {
 /// Arguments of `closed-loop`.
 #[derive(Clone, Debug, Args)]
 pub struct ClosedLoopArgs {
-    /// JSON array of objects {plant, compensator, rms_error,
+    /// JSON array of objects {plant, drift, encoder, compensator, rms_error,
     /// peak_reversal_error, rms_effort} instead of a table.
     #[arg(long)]
     pub json: bool,
@@ -240,6 +243,54 @@ pub struct ClosedLoopArgs {
     /// SVG plot.
     #[arg(long, value_name = "FILE")]
     pub svg: Option<PathBuf>,
+    /// Standard deviation [N] of Gaussian noise on the force the plant
+    /// receives (the controller knows only its command).
+    #[arg(
+        long,
+        value_name = "N",
+        default_value_t = 0.0,
+        value_parser = parse_non_negative,
+        allow_hyphen_values = true
+    )]
+    pub force_noise: f64,
+    /// Bandwidth [rad/s] of the disturbance observer (every +observer row).
+    #[arg(
+        long,
+        value_name = "RAD_S",
+        default_value_t = crate::closed_loop::OBSERVER_BANDWIDTH,
+        value_parser = parse_positive,
+        allow_hyphen_values = true
+    )]
+    pub observer_bandwidth: f64,
+    /// Bandwidth [rad/s] of the velocity estimator on the encoder counts.
+    #[arg(
+        long,
+        value_name = "RAD_S",
+        default_value_t = crate::closed_loop::VELOCITY_BANDWIDTH,
+        value_parser = parse_positive,
+        allow_hyphen_values = true
+    )]
+    pub velocity_bandwidth: f64,
+}
+
+/// Parses a finite number > 0.
+fn parse_positive(s: &str) -> Result<f64, String> {
+    let x = number(s)?;
+    if x > 0.0 {
+        Ok(x)
+    } else {
+        Err(format!("{x} is not > 0"))
+    }
+}
+
+/// Parses a finite number >= 0.
+fn parse_non_negative(s: &str) -> Result<f64, String> {
+    let x = number(s)?;
+    if x >= 0.0 {
+        Ok(x)
+    } else {
+        Err(format!("{x} is negative"))
+    }
 }
 
 /// `--window K`: the Savitzky–Golay half-width of the differentiator (both
@@ -673,6 +724,12 @@ mod tests {
             ("synth --effect offset", "--out"),
             ("static-curve f.csv --window 5", "--window"),
             ("closed-loop --svg", "--svg"),
+            ("closed-loop --force-noise -1", "--force-noise"),
+            ("closed-loop --observer-bandwidth 0", "--observer-bandwidth"),
+            (
+                "closed-loop --velocity-bandwidth nan",
+                "--velocity-bandwidth",
+            ),
         ] {
             let e = parse(&argv(line)).unwrap_err();
             assert_eq!(e.exit_code(), 2, "{line}");

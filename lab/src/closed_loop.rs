@@ -1,6 +1,6 @@
 //! `breakaway-lab closed-loop`: a PID position loop tracking a sinusoid with
 //! reversals, on two plants whose friction is not the compensator's own,
-//! with five friction compensators.
+//! measured through an encoder, with nine friction compensators.
 //!
 //! - Plants: `lugre` — the LuGre model of [`crate::lugre`] (Canudas de Wit
 //!   et al. 1995 parameters), the compensator using the library predictor
@@ -8,18 +8,29 @@
 //!   `Friction`, f64) with Fc +25 %, Fs +20 %, V +30 %, z_max +30 % against
 //!   the compensator's parameters.
 //! - Loop: period T = 1 ms, x_ref = A·(1 − cos 2πft) (A = 1 mm, f = 1 Hz:
-//!   reversals every 0.5 s, peak speed 6.3 mm/s), u = PID(e) + m·a_ref + the
-//!   compensation, ideal position and velocity measurement, zero-order hold.
-//!   PID by pole placement at (s + ω)³ with ω = 125 rad/s on m = 1 kg.
-//! - Compensators: `none`; `coulomb` Fc·sgn(v_ref); `stribeck` F_ss(v_ref)
-//!   (MODEL.md §2); `presliding` the library's [`Feedforward`] (MODEL.md §3);
-//!   `presliding_observer` the same plus the [`DisturbanceObserver`]'s
-//!   residual and the [`LevelAdaptation`] of the level scale.
+//!   reversals every 0.5 s, peak speed 6.3 mm/s), u = PID(e_m) + m·a_ref +
+//!   the compensation, zero-order hold. PID by pole placement at (s + ω)³
+//!   with ω = 125 rad/s on m = 1 kg.
+//! - Measurement as firmware has it: the count n = ⌊x/q⌋ of an encoder of q
+//!   metres per count (1 µm and 0.1 µm; q = 0 is the ideal measurement of
+//!   x and v, for reference), the position read as the centre of the count
+//!   (n + ½)·q, the velocity from the counts by the library's
+//!   [`VelocityEstimator`] (ω_e = [`VELOCITY_BANDWIDTH`]); optionally
+//!   Gaussian noise on the force the plant receives (the controller and the
+//!   observer know only the command).
+//! - Compensators: the feedforwards `none`; `coulomb` Fc·sgn(v_ref);
+//!   `stribeck` F_ss(v_ref) (MODEL.md §2); `presliding` the library's
+//!   [`Feedforward`](breakaway::compensation::Feedforward) (MODEL.md §3);
+//!   each alone and with the [`DisturbanceObserver`]'s residual added (`+observer`,
+//!   the same bandwidth for all, [`OBSERVER_BANDWIDTH`]), and
+//!   `presliding+observer+adaptation` with the [`LevelAdaptation`] of the
+//!   level scale too.
 //! - Figures over the window [5 s, 8 s] (after the observer and adaptation
-//!   have settled): RMS of e = x_ref − x, the peak |e| within 50 ms after
-//!   each reversal of x_ref, RMS of the total force command u.
-//! - Drift: the same runs with the plant's Fc stepped by +20 % at t = 2 s
-//!   (plants `lugre_fc+20%`, `model_fc+20%`).
+//!   have settled), on the true position: RMS of e = x_ref − x, the peak |e|
+//!   within 50 ms after each reversal of x_ref, RMS of the total force
+//!   command u.
+//! - Drift: the same runs (1 µm encoder) with the plant's Fc, or Fc and Fs,
+//!   stepped by +20 % at t = 2 s (`drift` `fc+20%`, `fc,fs+20%`).
 //!
 //! Plants are integrated with fixed sub-steps inside each period: LuGre by
 //! RK4 with h = 10 µs, the MODEL.md plant by semi-implicit Euler with
@@ -28,8 +39,8 @@
 //! `model` plant with the same constants in f32 on the MCU.
 
 use breakaway::compensation::{
-    AdaptationConfig, DisturbanceObserver, Feedforward, FeedforwardConfig, LevelAdaptation,
-    ObserverConfig,
+    AdaptationConfig, DisturbanceObserver, FeedforwardConfig, LevelAdaptation, ObserverConfig,
+    VelocityConfig, VelocityEstimator,
 };
 use breakaway_reference as reference;
 
@@ -55,6 +66,11 @@ pub const OMEGA: f64 = 125.0;
 pub const OBSERVER_BANDWIDTH: f64 = 100.0;
 /// Adaptation rate γ [1/s].
 pub const ADAPTATION_RATE: f64 = 1.0;
+/// A tracking error [m] beyond which a run is reported as diverged (the
+/// stroke is 2 mm).
+pub const DIVERGED: f64 = 0.1;
+/// Seed of the force noise (the same sequence in every run).
+pub const NOISE_SEED: u64 = 14;
 /// Time [s] of the +20 % step of the plant's Fc in the drift runs.
 pub const DRIFT_TIME: f64 = 2.0;
 /// The drift factor: × 1.2.
@@ -72,12 +88,12 @@ pub enum Drift {
 }
 
 impl Drift {
-    /// Suffix of the plant name in reports.
-    pub fn suffix(self) -> &'static str {
+    /// The name used in reports (`drift` field).
+    pub fn name(self) -> &'static str {
         match self {
-            Drift::None => "",
-            Drift::Coulomb => "_fc+20%",
-            Drift::Levels => "_fc,fs+20%",
+            Drift::None => "none",
+            Drift::Coulomb => "fc+20%",
+            Drift::Levels => "fc,fs+20%",
         }
     }
 }
@@ -119,42 +135,99 @@ pub const MODEL_PLANT: breakaway::Params = breakaway::Params {
     epsilon: 0.0,
 };
 
-/// The compensators, in table order.
-pub const COMPENSATORS: [Compensator; 5] = [
-    Compensator::None,
-    Compensator::Coulomb,
-    Compensator::Stribeck,
-    Compensator::Presliding,
-    Compensator::PreslidingObserver,
-];
-
-/// A friction compensator.
+/// The friction feedforward of a compensator.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Compensator {
-    /// No friction compensation.
+pub enum Feedforward {
+    /// No friction feedforward.
     None,
     /// Fc·sgn(v_ref).
     Coulomb,
     /// F_ss(v_ref) (MODEL.md §2).
     Stribeck,
-    /// The presliding feedforward (MODEL.md §3).
+    /// The library's presliding feedforward (MODEL.md §3).
     Presliding,
-    /// Presliding feedforward + disturbance observer + level adaptation.
-    PreslidingObserver,
+}
+
+/// A friction compensator: a feedforward, optionally with the disturbance
+/// observer's residual added (the feedforward of the period is the force it
+/// is told is explained), optionally with the level adaptation of the
+/// presliding feedforward.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Compensator {
+    /// The feedforward.
+    pub feedforward: Feedforward,
+    /// The disturbance observer adds its residual.
+    pub observer: bool,
+    /// The level adaptation scales the presliding feedforward (with the
+    /// observer only).
+    pub adaptation: bool,
 }
 
 impl Compensator {
+    const fn new(feedforward: Feedforward, observer: bool, adaptation: bool) -> Self {
+        Self {
+            feedforward,
+            observer,
+            adaptation,
+        }
+    }
+    /// No compensation.
+    pub const NONE: Self = Self::new(Feedforward::None, false, false);
+    /// Coulomb feedforward.
+    pub const COULOMB: Self = Self::new(Feedforward::Coulomb, false, false);
+    /// Stribeck feedforward.
+    pub const STRIBECK: Self = Self::new(Feedforward::Stribeck, false, false);
+    /// Presliding feedforward.
+    pub const PRESLIDING: Self = Self::new(Feedforward::Presliding, false, false);
+    /// The observer alone.
+    pub const NONE_OBSERVER: Self = Self::new(Feedforward::None, true, false);
+    /// Coulomb feedforward + observer.
+    pub const COULOMB_OBSERVER: Self = Self::new(Feedforward::Coulomb, true, false);
+    /// Stribeck feedforward + observer.
+    pub const STRIBECK_OBSERVER: Self = Self::new(Feedforward::Stribeck, true, false);
+    /// Presliding feedforward + observer.
+    pub const PRESLIDING_OBSERVER: Self = Self::new(Feedforward::Presliding, true, false);
+    /// Presliding feedforward + observer + level adaptation.
+    pub const ADAPTIVE: Self = Self::new(Feedforward::Presliding, true, true);
+
     /// The name used in reports.
     pub fn name(self) -> &'static str {
-        match self {
-            Compensator::None => "none",
-            Compensator::Coulomb => "coulomb",
-            Compensator::Stribeck => "stribeck",
-            Compensator::Presliding => "presliding",
-            Compensator::PreslidingObserver => "presliding_observer",
+        match (self.feedforward, self.observer, self.adaptation) {
+            (Feedforward::None, false, _) => "none",
+            (Feedforward::Coulomb, false, _) => "coulomb",
+            (Feedforward::Stribeck, false, _) => "stribeck",
+            (Feedforward::Presliding, false, _) => "presliding",
+            (Feedforward::None, true, _) => "none+observer",
+            (Feedforward::Coulomb, true, _) => "coulomb+observer",
+            (Feedforward::Stribeck, true, _) => "stribeck+observer",
+            (Feedforward::Presliding, true, false) => "presliding+observer",
+            (Feedforward::Presliding, true, true) => "presliding+observer+adaptation",
         }
     }
 }
+
+/// The compensators, in table order.
+pub const COMPENSATORS: [Compensator; 9] = [
+    Compensator::NONE,
+    Compensator::COULOMB,
+    Compensator::STRIBECK,
+    Compensator::PRESLIDING,
+    Compensator::NONE_OBSERVER,
+    Compensator::COULOMB_OBSERVER,
+    Compensator::STRIBECK_OBSERVER,
+    Compensator::PRESLIDING_OBSERVER,
+    Compensator::ADAPTIVE,
+];
+
+/// Encoders of the benchmark [m per count]: ideal (0), 1 µm, 0.1 µm.
+pub const ENCODERS: [f64; 3] = [0.0, 1e-6, 1e-7];
+
+/// The encoder of the targets and of the drift runs [m per count].
+pub const TARGET_ENCODER: f64 = 1e-6;
+
+/// Bandwidth ω_e [rad/s] of the velocity estimator on encoder counts
+/// (ω_e·T = 3); how it was chosen: docs/compensation.md.
+pub const VELOCITY_BANDWIDTH: f64 = 3000.0;
 
 /// Which plant.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -163,6 +236,16 @@ pub enum PlantKind {
     LuGre,
     /// MODEL.md, [`MODEL_PLANT`].
     Model,
+}
+
+impl PlantKind {
+    /// The name used in reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            PlantKind::LuGre => "lugre",
+            PlantKind::Model => "model",
+        }
+    }
 }
 
 /// A plant integrated inside one control period.
@@ -250,11 +333,15 @@ impl Plant for ModelPlant {
 /// The figures of one run.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Figures {
-    /// Plant name (`lugre`, `model`, `lugre_fc+20%`, `model_fc+20%`).
-    pub plant: String,
+    /// Plant name (`lugre`, `model`).
+    pub plant: &'static str,
     /// Compensator name.
     pub compensator: &'static str,
-    /// RMS tracking error [m] over the window.
+    /// The step drift of the plant's levels at [`DRIFT_TIME`].
+    pub drift: Drift,
+    /// Metres per encoder count (0: ideal measurement).
+    pub encoder: f64,
+    /// RMS tracking error [m] over the window (true position).
     pub rms_error: f64,
     /// Peak |e| [m] within 50 ms after a reversal, over the window.
     pub peak_reversal_error: f64,
@@ -262,6 +349,98 @@ pub struct Figures {
     pub rms_effort: f64,
     /// (t [s], e [m]) of every period (for plots).
     pub trace: Vec<(f64, f64)>,
+}
+
+/// How the controller measures and what disturbs the command.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Setup {
+    /// Metres per encoder count q [m], ≥ 0 (0: ideal measurement of x and v).
+    pub encoder: f64,
+    /// Standard deviation [N], ≥ 0, of the Gaussian noise added to the force
+    /// the plant receives (fixed seed).
+    pub force_noise: f64,
+    /// Bandwidth [rad/s] of the disturbance observer, > 0.
+    pub observer_bandwidth: f64,
+    /// Bandwidth ω_e [rad/s] of the velocity estimator, > 0.
+    pub velocity_bandwidth: f64,
+}
+
+impl Setup {
+    /// The benchmark's setup with an encoder of `encoder` metres per count
+    /// (0: ideal) and no force noise.
+    pub const fn encoder(encoder: f64) -> Self {
+        Self {
+            encoder,
+            force_noise: 0.0,
+            observer_bandwidth: OBSERVER_BANDWIDTH,
+            velocity_bandwidth: VELOCITY_BANDWIDTH,
+        }
+    }
+
+    /// `Err` naming the setting that is out of range.
+    pub fn check(&self) -> Result<(), String> {
+        let ok = |x: f64, zero: bool| x.is_finite() && (x > 0.0 || (zero && x == 0.0));
+        if !ok(self.encoder, true) {
+            return Err(format!(
+                "encoder {} m per count: must be >= 0",
+                self.encoder
+            ));
+        }
+        if !ok(self.force_noise, true) {
+            return Err(format!("force noise {} N: must be >= 0", self.force_noise));
+        }
+        if !ok(self.observer_bandwidth, false) {
+            return Err(format!(
+                "observer bandwidth {} rad/s: must be > 0",
+                self.observer_bandwidth
+            ));
+        }
+        if !ok(self.velocity_bandwidth, false) {
+            return Err(format!(
+                "velocity bandwidth {} rad/s: must be > 0",
+                self.velocity_bandwidth
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// What the controller measures: the count ⌊x/q⌋ of an encoder of q metres
+/// per count (an incremental encoder zeroed at x = 0), read as the centre of
+/// the count (the unbiased estimate; n·q would offset every row by q/2), and
+/// the velocity from the library's [`VelocityEstimator`] on the counts; or,
+/// for q = 0, the plant's own position and velocity.
+struct Measurement {
+    q: f64,
+    estimator: Option<VelocityEstimator<i64>>,
+}
+
+impl Measurement {
+    fn new(setup: &Setup) -> Result<Self, String> {
+        let q = setup.encoder;
+        let estimator = if q > 0.0 {
+            let config = VelocityConfig {
+                bandwidth: setup.velocity_bandwidth as f32,
+                period: PERIOD as f32,
+            };
+            Some(VelocityEstimator::new(config, q as f32).map_err(|e| e.to_string())?)
+        } else {
+            None
+        };
+        Ok(Self { q, estimator })
+    }
+
+    /// (position [m], velocity [m/s]) as the controller sees them.
+    fn read(&mut self, x: f64, v: f64) -> Result<(f64, f64), String> {
+        match self.estimator.as_mut() {
+            None => Ok((x, v)),
+            Some(estimator) => {
+                let count = (x / self.q).floor() as i64;
+                let v = estimator.update(count).map_err(|e| e.to_string())?;
+                Ok(((count as f64 + 0.5) * self.q, f64::from(v)))
+            }
+        }
+    }
 }
 
 /// The reference x_ref [m], v_ref [m/s], a_ref [m/s²] at `t` [s].
@@ -298,24 +477,29 @@ pub fn compensator_params(plant: PlantKind) -> breakaway::Params {
 }
 
 /// Runs one closed loop with a step `drift` of the plant's levels at
-/// [`DRIFT_TIME`].
+/// [`DRIFT_TIME`], measured and disturbed as `setup` says.
 pub fn run(
     plant_kind: PlantKind,
     compensator: Compensator,
     drift: Drift,
+    setup: &Setup,
 ) -> Result<Figures, String> {
+    setup.check()?;
     let params = compensator_params(plant_kind);
     let model = breakaway::Model::<f32>::new(params).map_err(|e| e.to_string())?;
     let mut plant: Box<dyn Plant> = match plant_kind {
         PlantKind::LuGre => Box::new(LuGrePlant(lugre::Plant::new(LuGre::CANUDAS_1995))),
         PlantKind::Model => Box::new(ModelPlant::new(&MODEL_PLANT)),
     };
+    let mut sensor = Measurement::new(setup)?;
+    let mut noise = crate::synth::Rng::new(NOISE_SEED);
     let err = |e: &dyn std::fmt::Display| e.to_string();
     let mut ff =
-        Feedforward::<f32>::new(FeedforwardConfig::default(), 0.0, 1.0).map_err(|e| err(&e))?;
+        breakaway::compensation::Feedforward::<f32>::new(FeedforwardConfig::default(), 0.0, 1.0)
+            .map_err(|e| err(&e))?;
     let mut observer = DisturbanceObserver::new(ObserverConfig {
         mass: MASS as f32,
-        bandwidth: OBSERVER_BANDWIDTH as f32,
+        bandwidth: setup.observer_bandwidth as f32,
         period: PERIOD as f32,
     })
     .map_err(|e| err(&e))?;
@@ -344,13 +528,39 @@ pub fn run(
             drifted = true;
         }
         let (x_ref, v_ref, a_ref) = reference_at(t);
-        let (x, v) = (plant.position(), plant.velocity());
-        let e = x_ref - x;
+        let (x_m, v_m) = sensor.read(plant.position(), plant.velocity())?;
+        // The figures judge the true position; the controller sees x_m.
+        let e = x_ref - plant.position();
+        if !e.is_finite() || e.abs() >= DIVERGED {
+            return Err(format!(
+                "closed loop diverged: plant {}, compensator {}, drift {}, encoder {} m, |e| > {DIVERGED} m at t = {t:.3} s",
+                plant_kind.name(),
+                compensator.name(),
+                drift.name(),
+                setup.encoder
+            ));
+        }
         trace.push((t, e));
-        let compensation = match compensator {
-            Compensator::None => 0.0,
-            Compensator::Coulomb => {
-                f64::from(params.fc)
+        // The observer first: it explains the period that just ended with
+        // the command and the feedforward applied in it.
+        let residual = if compensator.observer {
+            let r = observer
+                .update(u as f32, v_m as f32, u_ff)
+                .map_err(|e| err(&e))?;
+            if compensator.adaptation {
+                let theta = adaptation
+                    .update(r, ff.dry(), v_ref as f32, ff.is_sliding())
+                    .map_err(|e| err(&e))?;
+                ff.set_level_scale(theta);
+            }
+            r
+        } else {
+            0.0
+        };
+        u_ff = match compensator.feedforward {
+            Feedforward::None => 0.0,
+            Feedforward::Coulomb => {
+                params.fc
                     * if v_ref > 0.0 {
                         1.0
                     } else if v_ref < 0.0 {
@@ -359,33 +569,21 @@ pub fn run(
                         0.0
                     }
             }
-            Compensator::Stribeck => f64::from(model.steady_state(v_ref as f32)),
-            Compensator::Presliding => f64::from(
-                ff.update(&model, x_ref as f32, v_ref as f32)
-                    .map_err(|e| err(&e))?,
-            ),
-            Compensator::PreslidingObserver => {
-                let r = observer
-                    .update(u as f32, v as f32, u_ff)
-                    .map_err(|e| err(&e))?;
-                let theta = adaptation
-                    .update(r, ff.dry(), v_ref as f32, ff.is_sliding())
-                    .map_err(|e| err(&e))?;
-                ff.set_level_scale(theta);
-                u_ff = ff
-                    .update(&model, x_ref as f32, v_ref as f32)
-                    .map_err(|e| err(&e))?;
-                f64::from(u_ff) + f64::from(r)
-            }
+            Feedforward::Stribeck => model.steady_state(v_ref as f32),
+            Feedforward::Presliding => ff
+                .update(&model, x_ref as f32, v_ref as f32)
+                .map_err(|e| err(&e))?,
         };
-        integral += e * PERIOD;
-        u = kp * e + ki * integral + kd * (v_ref - v) + MASS * a_ref + compensation;
+        let compensation = f64::from(u_ff) + f64::from(residual);
+        let e_m = x_ref - x_m;
+        integral += e_m * PERIOD;
+        u = kp * e_m + ki * integral + kd * (v_ref - v_m) + MASS * a_ref + compensation;
         if t >= WINDOW_START - 1e-9 {
             sum_e2 += e * e;
             sum_u2 += u * u;
             count += 1;
         }
-        plant.step(u);
+        plant.step(u + setup.force_noise * noise.normal());
     }
     let half = 0.5 / FREQUENCY;
     let mut peak = 0.0f64;
@@ -399,13 +597,11 @@ pub fn run(
             peak = peak.max(e.abs());
         }
     }
-    let name = match plant_kind {
-        PlantKind::LuGre => "lugre",
-        PlantKind::Model => "model",
-    };
     Ok(Figures {
-        plant: format!("{name}{}", drift.suffix()),
+        plant: plant_kind.name(),
         compensator: compensator.name(),
+        drift,
+        encoder: setup.encoder,
         rms_error: (sum_e2 / count.max(1) as f64).sqrt(),
         peak_reversal_error: peak,
         rms_effort: (sum_u2 / count.max(1) as f64).sqrt(),
@@ -413,31 +609,35 @@ pub fn run(
     })
 }
 
-/// Every run of the benchmark, in table order: both plants with all
-/// compensators, then the drift runs with `presliding` and
-/// `presliding_observer`.
-pub fn benchmark() -> Result<Vec<Figures>, String> {
+/// Every run of the benchmark, in table order: both plants, every encoder
+/// of [`ENCODERS`], every compensator, no drift; then both plants, both
+/// drifts, every compensator at [`TARGET_ENCODER`]. `base` gives the force
+/// noise and the bandwidths (its encoder is replaced).
+pub fn benchmark(base: &Setup) -> Result<Vec<Figures>, String> {
     let mut jobs = Vec::new();
     for plant in [PlantKind::LuGre, PlantKind::Model] {
-        for c in COMPENSATORS {
-            jobs.push((plant, c, Drift::None));
+        for encoder in ENCODERS {
+            for c in COMPENSATORS {
+                jobs.push((plant, c, Drift::None, encoder));
+            }
         }
     }
     for plant in [PlantKind::LuGre, PlantKind::Model] {
         for drift in [Drift::Coulomb, Drift::Levels] {
-            for c in [Compensator::Presliding, Compensator::PreslidingObserver] {
-                jobs.push((plant, c, drift));
+            for c in COMPENSATORS {
+                jobs.push((plant, c, drift, TARGET_ENCODER));
             }
         }
     }
+    let threads = std::thread::available_parallelism().map_or(2, usize::from);
     std::thread::scope(|scope| {
         let handles: Vec<_> = jobs
-            .chunks(jobs.len().div_ceil(2))
+            .chunks(jobs.len().div_ceil(threads))
             .map(|chunk| {
                 scope.spawn(move || {
                     chunk
                         .iter()
-                        .map(|&(p, c, d)| run(p, c, d))
+                        .map(|&(p, c, d, encoder)| run(p, c, d, &Setup { encoder, ..*base }))
                         .collect::<Result<Vec<_>, String>>()
                 })
             })
@@ -453,8 +653,9 @@ pub fn benchmark() -> Result<Vec<Figures>, String> {
     })
 }
 
-/// The JSON array of the figures (keys `plant`, `compensator`, `rms_error`,
-/// `peak_reversal_error`, `rms_effort`; SI units).
+/// The JSON array of the figures (keys `plant`, `compensator`, `drift`,
+/// `encoder` [m per count, 0 for ideal], `rms_error`, `peak_reversal_error`,
+/// `rms_effort`; SI units).
 pub fn to_json(rows: &[Figures]) -> String {
     let array: Vec<serde_json::Value> = rows
         .iter()
@@ -462,6 +663,8 @@ pub fn to_json(rows: &[Figures]) -> String {
             serde_json::json!({
                 "plant": r.plant,
                 "compensator": r.compensator,
+                "drift": r.drift.name(),
+                "encoder": r.encoder,
                 "rms_error": r.rms_error,
                 "peak_reversal_error": r.peak_reversal_error,
                 "rms_effort": r.rms_effort,
@@ -473,51 +676,73 @@ pub fn to_json(rows: &[Figures]) -> String {
     text
 }
 
+/// The peak reversal error of a run in `rows`.
+pub fn peak(
+    rows: &[Figures],
+    plant: &str,
+    compensator: &str,
+    drift: Drift,
+    encoder: f64,
+) -> Option<f64> {
+    rows.iter()
+        .find(|r| {
+            r.plant == plant
+                && r.compensator == compensator
+                && r.drift == drift
+                && r.encoder == encoder
+        })
+        .map(|r| r.peak_reversal_error)
+}
+
 /// The text table (errors in µm) with the target ratios.
 pub fn to_table(rows: &[Figures]) -> String {
     let mut text = format!(
-        "{:<16} {:<20} {:>12} {:>18} {:>12}\n",
-        "plant", "compensator", "rms_error_um", "peak_reversal_um", "rms_effort_N"
+        "{:<6} {:<10} {:>8} {:<31} {:>9} {:>10} {:>9}\n",
+        "plant", "drift", "encoder", "compensator", "rms_um", "peak_um", "effort_N"
     );
     for r in rows {
+        let encoder = if r.encoder > 0.0 {
+            format!("{} um", (r.encoder * 1e9).round() / 1e3)
+        } else {
+            "ideal".to_string()
+        };
         text.push_str(&format!(
-            "{:<16} {:<20} {:>12.3} {:>18.3} {:>12.4}\n",
+            "{:<6} {:<10} {:>8} {:<31} {:>9.3} {:>10.3} {:>9.4}\n",
             r.plant,
+            r.drift.name(),
+            encoder,
             r.compensator,
             r.rms_error * 1e6,
             r.peak_reversal_error * 1e6,
             r.rms_effort
         ));
     }
-    let peak = |plant: &str, c: &str| {
-        rows.iter()
-            .find(|r| r.plant == plant && r.compensator == c)
-            .map(|r| r.peak_reversal_error)
-    };
-    text.push_str("\ntargets (peak reversal error):\n");
+    let at = |plant: &str, c: &str, drift: Drift| peak(rows, plant, c, drift, TARGET_ENCODER);
+    text.push_str("\ntargets (peak reversal error, 1 um encoder):\n");
     for plant in ["lugre", "model"] {
-        if let (Some(none), Some(coulomb), Some(pre)) = (
-            peak(plant, "none"),
-            peak(plant, "coulomb"),
-            peak(plant, "presliding"),
+        let adaptive = Compensator::ADAPTIVE.name();
+        if let (Some(none), Some(coulomb), Some(pre), Some(co), Some(ad)) = (
+            at(plant, "none", Drift::None),
+            at(plant, "coulomb", Drift::None),
+            at(plant, "presliding", Drift::None),
+            at(plant, "coulomb+observer", Drift::None),
+            at(plant, adaptive, Drift::None),
         ) {
             text.push_str(&format!(
-                "  {plant}: none/presliding = {:.2} (target >= 5), coulomb/presliding = {:.2} (target >= 2)\n",
-                none / pre,
+                "  {plant}: none/{adaptive} = {:.1} (target >= 10), coulomb+observer/{adaptive} = {:.2} (target >= 2), \
+                 coulomb/presliding = {:.2} (target >= 2)\n",
+                none / ad,
+                co / ad,
                 coulomb / pre
             ));
-        }
-        if let Some(tuned) = peak(plant, "presliding_observer") {
             for drift in [Drift::Coulomb, Drift::Levels] {
-                if let Some(after) =
-                    peak(&format!("{plant}{}", drift.suffix()), "presliding_observer")
-                {
+                if let Some(after) = at(plant, adaptive, drift) {
                     text.push_str(&format!(
-                        "  {plant}{}: presliding_observer {:.3} um vs tuned {:.3} um: {:+.1} % (target within 10 %)\n",
-                        drift.suffix(),
+                        "  {plant}, drift {}: {adaptive} {:.3} um vs tuned {:.3} um: {:+.1} % (target within 25 %)\n",
+                        drift.name(),
                         after * 1e6,
-                        tuned * 1e6,
-                        (after / tuned - 1.0) * 100.0
+                        ad * 1e6,
+                        (after / ad - 1.0) * 100.0
                     ));
                 }
             }
@@ -525,6 +750,15 @@ pub fn to_table(rows: &[Figures]) -> String {
     }
     text
 }
+
+/// The compensators in the SVG plot (1 µm encoder, no drift).
+const PLOTTED: [Compensator; 5] = [
+    Compensator::NONE,
+    Compensator::COULOMB,
+    Compensator::PRESLIDING,
+    Compensator::COULOMB_OBSERVER,
+    Compensator::ADAPTIVE,
+];
 
 /// Time [s] of the reversal shown in the SVG plot.
 pub const PLOT_REVERSAL: f64 = 6.0;
@@ -542,11 +776,15 @@ pub fn to_svg(rows: &[Figures]) -> String {
     );
     for (panel, plant) in ["lugre", "model"].iter().enumerate() {
         let x0 = panel as f64 * w;
-        let curves: Vec<(&Figures, Vec<(f64, f64)>)> = COMPENSATORS
+        let curves: Vec<(&Figures, Vec<(f64, f64)>)> = PLOTTED
             .iter()
             .filter_map(|c| {
-                rows.iter()
-                    .find(|r| r.plant == *plant && r.compensator == c.name())
+                rows.iter().find(|r| {
+                    r.plant == *plant
+                        && r.compensator == c.name()
+                        && r.drift == Drift::None
+                        && r.encoder == TARGET_ENCODER
+                })
             })
             .map(|r| {
                 let pts = r
@@ -631,7 +869,14 @@ pub fn command(
     out: &mut dyn std::io::Write,
 ) -> Result<(), crate::Error> {
     use crate::Error;
-    let rows = benchmark().map_err(Error::Runtime)?;
+    let setup = Setup {
+        encoder: 0.0,
+        force_noise: args.force_noise,
+        observer_bandwidth: args.observer_bandwidth,
+        velocity_bandwidth: args.velocity_bandwidth,
+    };
+    setup.check().map_err(Error::Usage)?;
+    let rows = benchmark(&setup).map_err(Error::Runtime)?;
     if let Some(path) = &args.svg {
         std::fs::write(path, to_svg(&rows))
             .map_err(|e| Error::Runtime(format!("writing {}: {e}", path.display())))?;
@@ -649,13 +894,68 @@ mod tests {
     use super::*;
 
     #[test]
+    fn force_noise_is_seeded_and_bad_setups_are_named() {
+        let quiet = Setup::encoder(TARGET_ENCODER);
+        let noisy = Setup {
+            force_noise: 0.05,
+            ..quiet
+        };
+        let c = Compensator::COULOMB_OBSERVER;
+        let a = run(PlantKind::Model, c, Drift::None, &noisy).unwrap();
+        let b = run(PlantKind::Model, c, Drift::None, &noisy).unwrap();
+        let q = run(PlantKind::Model, c, Drift::None, &quiet).unwrap();
+        assert_eq!(a, b);
+        assert_ne!(a.rms_error, q.rms_error);
+        // 0.05 N of noise on the `model` plant, 1 µm encoder: measured
+        // +3.6 % on the RMS error (2.10 against 2.03 µm).
+        assert!((a.rms_error / q.rms_error - 1.0).abs() < 0.2);
+        for (setup, needle) in [
+            (
+                Setup {
+                    encoder: -1e-6,
+                    ..quiet
+                },
+                "encoder",
+            ),
+            (
+                Setup {
+                    force_noise: f64::NAN,
+                    ..quiet
+                },
+                "force noise",
+            ),
+            (
+                Setup {
+                    observer_bandwidth: 0.0,
+                    ..quiet
+                },
+                "observer bandwidth",
+            ),
+            (
+                Setup {
+                    velocity_bandwidth: -3.0,
+                    ..quiet
+                },
+                "velocity bandwidth",
+            ),
+        ] {
+            let e = run(PlantKind::Model, c, Drift::None, &setup).unwrap_err();
+            assert!(e.contains(needle), "{e}");
+        }
+    }
+
+    #[test]
     fn closed_loop_json_and_measured_ratios() {
         let mut out = Vec::new();
         crate::run(&["closed-loop".to_string(), "--json".to_string()], &mut out).unwrap();
         let rows: Vec<serde_json::Value> = serde_json::from_slice(&out).unwrap();
-        assert_eq!(rows.len(), 18);
+        // 2 plants × 3 encoders × 9 compensators, then 2 plants × 2 drifts
+        // × 9 compensators at the 1 µm encoder.
+        assert_eq!(rows.len(), 54 + 36);
         let keys = [
             "compensator",
+            "drift",
+            "encoder",
             "peak_reversal_error",
             "plant",
             "rms_effort",
@@ -671,34 +971,41 @@ mod tests {
             got.sort_unstable();
             assert_eq!(got, keys);
         }
-        let peak = |plant: &str, c: &str| {
+        let peak = |plant: &str, c: &str, drift: &str, encoder: f64| {
             rows.iter()
-                .find(|r| r["plant"] == plant && r["compensator"] == c)
+                .find(|r| {
+                    r["plant"] == plant
+                        && r["compensator"] == c
+                        && r["drift"] == drift
+                        && r["encoder"].as_f64() == Some(encoder)
+                })
                 .and_then(|r| r["peak_reversal_error"].as_f64())
                 .unwrap()
         };
+        let adaptive = Compensator::ADAPTIVE.name();
         for plant in ["lugre", "model"] {
-            let none = peak(plant, "none");
-            let coulomb = peak(plant, "coulomb");
-            let pre = peak(plant, "presliding");
-            let obs = peak(plant, "presliding_observer");
-            // Measured (see COMPENSATION.md): none/presliding 3.1 (lugre),
-            // 3.3 (model), below the issue's 5; coulomb/presliding 1.4, 1.65,
-            // below its 2. Observer + adaptation: 20× and 26×.
-            assert!(none / pre > 3.0, "{plant}: {none} / {pre}");
-            assert!(coulomb / pre > 1.3, "{plant}: {coulomb} / {pre}");
-            assert!(none / obs > 15.0 && coulomb / obs > 5.0, "{plant}: {obs}");
-            // After a drift the observer + adaptation stays well below the
-            // plain presliding feedforward.
-            for drift in [Drift::Coulomb, Drift::Levels] {
-                let name = format!("{plant}{}", drift.suffix());
-                assert!(peak(&name, "presliding_observer") < 0.6 * peak(&name, "presliding"));
+            // Ideal measurement, as before the encoder path: the observer
+            // with adaptation 20× and 26× better than none.
+            let none = peak(plant, "none", "none", 0.0);
+            let ad = peak(plant, adaptive, "none", 0.0);
+            assert!(none / ad > 15.0, "{plant}: {none} / {ad}");
+            // 0.1 µm per count: within 10 % of ideal (measured 1.9 %, 1.0 %).
+            let fine = peak(plant, adaptive, "none", 1e-7);
+            assert!((fine / ad - 1.0).abs() < 0.1, "{plant}: {fine} vs {ad}");
+            // Through the 1 µm encoder (measured: 13.6× and 5.9× better
+            // than none, 5.2× and 1.8× better than coulomb+observer).
+            let q = TARGET_ENCODER;
+            let none = peak(plant, "none", "none", q);
+            let co = peak(plant, "coulomb+observer", "none", q);
+            let ad = peak(plant, adaptive, "none", q);
+            assert!(none / ad > 5.0, "{plant}: none {none} / {ad}");
+            assert!(co / ad > 1.5, "{plant}: coulomb+observer {co} / {ad}");
+            // Every observer row beats its feedforward alone.
+            for ff in ["none", "coulomb", "presliding"] {
+                let alone = peak(plant, ff, "none", q);
+                let observed = peak(plant, &format!("{ff}+observer"), "none", q);
+                assert!(observed < alone, "{plant} {ff}: {observed} vs {alone}");
             }
         }
-        // A drift of both levels (what the single scale θ models) on the
-        // MODEL.md plant: back to within 20 % of the tuned figure (measured
-        // +17 %; the issue's target of 10 % is missed, see COMPENSATION.md).
-        let tuned = peak("model", "presliding_observer");
-        assert!(peak("model_fc,fs+20%", "presliding_observer") < 1.2 * tuned);
     }
 }

@@ -16,6 +16,10 @@
 //!   and Fs (temperature, wear: the `drift` of the
 //!   [effects](crate::model_overview#effects)), driven by the observer's
 //!   residual while sliding and frozen in presliding and at rest.
+//! - [`VelocityEstimator`]: the velocity from encoder counts, by a
+//!   critically damped α–β tracking filter (at low speed a difference of
+//!   counts is 0 or one count per period, which the derivative term and the
+//!   observer amplify).
 //! - [`BreakAwayDetector`]: online break-away detection under a rising force
 //!   command; keeps measured (k, F_ba) pairs
 //!   ([break-away predictor](crate::model_overview#break-away-predictor)) in
@@ -26,6 +30,7 @@
 //! | [`Feedforward`] | u_ff = clamp(gain·(θ·H + σ·v), ±limit) from (x_ref, v_ref) through the presliding state machine: at a reversal the force swings along g(w) over z_max of travel instead of stepping by 2·Fc | [presliding](crate::model_overview#presliding) |
 //! | [`DisturbanceObserver`] | r = Q(u − m_n·Δv/T − u_ff), Q a first-order low pass of bandwidth g: the force the feedforward does not explain | [plant](crate::model_overview#plant) |
 //! | [`LevelAdaptation`] | θ ← clamp(θ + γ·T·r/H, θ_min, θ_max): one scale on Fc and Fs, frozen in presliding and below `min_speed` | [Stribeck curve](crate::model_overview#stribeck-curve), `drift` |
+//! | [`VelocityEstimator`] | v̂ from the position samples (counts): x̂⁻ = x̂ + T·v̂, e = x_m − x̂⁻, x̂ = x̂⁻ + (1 − p²)·e, v̂ += (1 − p)²·e/T, p = exp(−ω_e·T) | [plant](crate::model_overview#plant) (measurement) |
 //! | [`BreakAwayDetector<N>`](BreakAwayDetector) | least-squares k of a rising \|u\| at rest, break-away when \|v\| > `break_away_speed`, (k, F_ba, t_ba, predicted) in a `heapless::Deque` of N | [break-away predictor](crate::model_overview#break-away-predictor) |
 //! | `hal::PwmForce` (feature `hal`) | force → `embedded_hal::pwm::SetDutyCycle`, `Centered` (50 % = 0 N) or `Magnitude` (+ direction), saturating at ±F_full | – |
 //!
@@ -42,7 +47,7 @@
 //! sample is rejected without changing any state.
 //!
 //! [`Feedforward`], [`DisturbanceObserver`], [`LevelAdaptation`],
-//! [`BreakAwayDetector`] (and `hal::PwmForce`) are generic over the number
+//! [`VelocityEstimator`], [`BreakAwayDetector`] (and `hal::PwmForce`) are generic over the number
 //! type: the same code runs in `f32` and in [`Q16`](crate::Q16) on an MCU
 //! without an FPU. The settings stay in SI units; `with_units(…,
 //! model.units())` (for the detector, `new` from the model) converts them
@@ -85,11 +90,13 @@ mod adaptation;
 mod detection;
 mod feedforward;
 mod observer;
+mod velocity;
 
 pub use adaptation::{AdaptationConfig, LevelAdaptation};
 pub use detection::{Accumulate, BreakAwayDetector, DetectorConfig, Measurement};
 pub use feedforward::{Feedforward, FeedforwardConfig};
 pub use observer::{DisturbanceObserver, ObserverConfig};
+pub use velocity::{VelocityConfig, VelocityEstimator};
 
 use core::fmt;
 
@@ -183,6 +190,8 @@ pub enum SignalError {
     Velocity,
     /// A model or feedforward force is NaN or infinite.
     Force,
+    /// A position sample is NaN or infinite.
+    Position,
 }
 
 impl fmt::Display for SignalError {
@@ -191,6 +200,7 @@ impl fmt::Display for SignalError {
             SignalError::Command => "force command is not finite",
             SignalError::Velocity => "velocity sample is not finite",
             SignalError::Force => "force sample is not finite",
+            SignalError::Position => "position sample is not finite",
         })
     }
 }
