@@ -527,15 +527,17 @@ pub fn ripple_scan(p: &Prepared, r: &[f64], filtered: bool) -> (f64, f64, f64, f
         let sin: Vec<f64>;
         let cos: Vec<f64>;
         if filtered {
-            sin = p.x.iter().map(|x| (k * x).sin()).collect();
-            cos = p.x.iter().map(|x| (k * x).cos()).collect();
+            let raw_sin: Vec<f64> = p.x.iter().map(|x| (k * x).sin()).collect();
+            let raw_cos: Vec<f64> = p.x.iter().map(|x| (k * x).cos()).collect();
+            sin = p.filter_all(&raw_sin);
+            cos = p.filter_all(&raw_cos);
         } else {
             sin = Vec::new();
             cos = Vec::new();
         }
         for &i in &idx {
             let (a, b) = if filtered {
-                (p.filter_at(&sin, i), p.filter_at(&cos, i))
+                (sin[i], cos[i])
             } else {
                 ((k * p.x[i]).sin(), (k * p.x[i]).cos())
             };

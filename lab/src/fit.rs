@@ -763,11 +763,32 @@ impl Prepared {
     pub fn residual(&self, m: &Model) -> Vec<f64> {
         let f = self.friction(m);
         let d: Vec<f64> = self.u_mid.iter().zip(&f).map(|(u, f)| u - f).collect();
-        let mut r = vec![0.0; self.len()];
+        let mut r = self.filter_all(&d);
         for i in self.valid() {
-            r[i] = self.filter_at(&d, i) - m.mass * self.a[i];
+            r[i] -= m.mass * self.a[i];
         }
         r
+    }
+
+    /// [`Prepared::filter_at`] at every valid sample (0 elsewhere), with
+    /// the loops exchanged: each sample's sum runs over the kernel in the
+    /// same order (the same result to the last bit), and the inner loop
+    /// over the samples vectorises (the residual's cost with a ±32 kernel
+    /// fell about 4×).
+    pub fn filter_all(&self, s: &[f64]) -> Vec<f64> {
+        let valid = self.valid();
+        let mut acc = vec![0.0; self.len()];
+        if valid.is_empty() {
+            return acc;
+        }
+        for (j, w) in self.kernel.iter().enumerate() {
+            // Sample i reads s[i + j − kf]; valid.start ≥ kf.
+            let src = &s[valid.start + j - self.kf..valid.end + j - self.kf];
+            for (a, x) in acc[valid.clone()].iter_mut().zip(src) {
+                *a += w * x;
+            }
+        }
+        acc
     }
 
     /// Weighted RMS of `r` over the samples selected by `held_out`
@@ -1132,9 +1153,8 @@ fn solve(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Option<Vec<f64>> {
 /// Analytic Jacobian column `∂r/∂θ` for parameters that enter linearly.
 fn analytic_column(p: &Prepared, m: &Model, par: Param, idx: &[usize]) -> Option<Vec<f64>> {
     let col = |s: &[f64]| -> Vec<f64> {
-        idx.iter()
-            .map(|&i| -p.weight[i].sqrt() * p.filter_at(s, i))
-            .collect()
+        let f = p.filter_all(s);
+        idx.iter().map(|&i| -p.weight[i].sqrt() * f[i]).collect()
     };
     match par {
         Param::Mass => Some(idx.iter().map(|&i| -p.weight[i].sqrt() * p.a[i]).collect()),
