@@ -64,7 +64,7 @@ pub fn visibility(p: &Prepared, m: &Model, effect: Effect) -> f64 {
     }
     let w_norm = p.kernel.iter().map(|w| w * w).sum::<f64>().sqrt();
     let noise = p.sigma0 / w_norm;
-    if n == 0 || !(noise > 0.0) {
+    if n == 0 || noise.is_nan() || noise <= 0.0 {
         return f64::INFINITY;
     }
     (s / n as f64).sqrt() / noise

@@ -1318,3 +1318,85 @@ pub fn levenberg_marquardt(
     }
     (th, cost, passes)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::data::Record;
+
+    fn record(n: usize, dt: f64, x: impl Fn(f64) -> f64) -> Record {
+        let t: Vec<f64> = (0..n).map(|i| i as f64 * dt).collect();
+        let u = t
+            .iter()
+            .map(|&t| (7.0 * t).sin() + 0.3 * (53.0 * t).cos())
+            .collect();
+        let x = t.iter().map(|&t| x(t)).collect();
+        Record {
+            t,
+            u,
+            x,
+            v: None,
+            source: "test".into(),
+        }
+    }
+
+    /// The force kernel sums to 1 (`Σ W_j·Δ²x = Σ c2_j·x`, so a parabola
+    /// `x = t²` gives `â = 2` exactly) at every half-width.
+    #[test]
+    fn kernel_gives_the_second_derivative_of_a_parabola() {
+        for k in [2, 4, 12, 32, 64] {
+            let (_, c2) = sg_coefficients(k);
+            let w = force_kernel(&c2);
+            assert!((w.iter().sum::<f64>() - 1.0).abs() < 1e-12, "k {k}");
+        }
+        let rec = record(400, 1e-3, |t| t * t);
+        let p = Prepared::with_window(
+            &rec,
+            Window {
+                velocity: 4,
+                force: 32,
+            },
+        );
+        for i in p.valid() {
+            assert!((p.a[i] - 2.0).abs() < 1e-6, "a[{i}] = {}", p.a[i]);
+            assert!((p.v[i] - 2.0 * p.t[i]).abs() < 1e-9, "v[{i}] = {}", p.v[i]);
+        }
+    }
+
+    /// `filter_all` is `filter_at` at every valid sample, to the last bit.
+    #[test]
+    fn filter_all_is_filter_at() {
+        let rec = record(500, 1e-3, |t| 1e-3 * (3.0 * t).sin());
+        let p = Prepared::with_window(
+            &rec,
+            Window {
+                velocity: 4,
+                force: 20,
+            },
+        );
+        let s: Vec<f64> = (0..rec.len())
+            .map(|i| ((i * 7919) % 101) as f64 - 50.0)
+            .collect();
+        let all = p.filter_all(&s);
+        for (i, got) in all.iter().enumerate() {
+            let want = if p.valid().contains(&i) {
+                p.filter_at(&s, i)
+            } else {
+                0.0
+            };
+            assert_eq!(got.to_bits(), want.to_bits(), "sample {i}");
+        }
+    }
+
+    /// At 1 kHz the automatic windows are ±4 for the velocity and ±32 for
+    /// the force kernel.
+    #[test]
+    fn automatic_windows_at_one_kilohertz() {
+        let rec = record(5000, 1e-3, |t| {
+            (1e-4 * (2.0 * t).sin() / 1e-7).round() * 1e-7
+        });
+        let w = auto_window(&rec);
+        assert_eq!(w.velocity, AUTO_HALF_WIDTH);
+        assert!(w.force >= 32 && w.force <= MAX_AUTO_HALF_WIDTH, "{w:?}");
+    }
+}

@@ -521,8 +521,18 @@ fn compare_closed_loop(
         };
         if encoder > 0.0 {
             for (i, expected, bound, worst) in [
-                (3, want.rms_error, ENCODER_ERROR_FACTOR, &mut worst_error_factor),
-                (4, want.peak_reversal_error, ENCODER_PEAK_FACTOR, &mut worst_peak_factor),
+                (
+                    3,
+                    want.rms_error,
+                    ENCODER_ERROR_FACTOR,
+                    &mut worst_error_factor,
+                ),
+                (
+                    4,
+                    want.peak_reversal_error,
+                    ENCODER_PEAK_FACTOR,
+                    &mut worst_peak_factor,
+                ),
             ] {
                 let got = field(fields, i, line)?;
                 let ratio = got / expected;
