@@ -221,14 +221,14 @@ pub struct Prepared {
     pub v: Vec<f64>,
     /// Acceleration estimate [m/s²] (0 outside the valid range).
     pub a: Vec<f64>,
-    /// Force kernel `W_j`, `j = −k … k`.
+    /// Force kernel `W_j`, `j = −kf … kf`.
     pub kernel: Vec<f64>,
     /// Half-width `k` of the velocity estimate and of the still rule.
     pub k: usize,
     /// Half-width of the force kernel and of `â` (≥ `k` when chosen by
     /// [`auto_window`]).
     pub kf: usize,
-    /// Sample weight (0 outside the valid range `k … n−k`).
+    /// Sample weight (0 outside the valid range, [`Prepared::valid`]).
     pub weight: Vec<f64>,
     /// Held-out flag per sample.
     pub held_out: Vec<bool>,
