@@ -73,6 +73,13 @@ pub struct CurvesF32 {
     inv_v: f32,
     /// The shape exponent δ (below the table when δ < 0.82).
     delta: f32,
+    /// The smaller and the larger of Fc and Fs [N]: S lies between them,
+    /// and the table's value is clamped there (a polynomial can overshoot
+    /// by a few units in the last place, which near the smallest normal
+    /// float is a relative 1e-3: the fuzzer found |H| > Fs at
+    /// Fs = 2.3e-38 N, δ = 4.9e7).
+    low: f32,
+    high: f32,
     stribeck: StribeckTable,
 }
 
@@ -187,6 +194,8 @@ impl Curves<f32> for CurvesF32 {
             rise: 0.0,
             inv_v: 1.0,
             delta: 1.0,
+            low: 0.0,
+            high: 0.0,
             stribeck: StribeckTable::EMPTY,
         };
         curves.rebuild(p);
@@ -197,6 +206,7 @@ impl Curves<f32> for CurvesF32 {
     fn rebuild(&mut self, p: &Params) {
         let (fc, rise, delta) = (p.fc, p.fs - p.fc, p.delta);
         (self.fc, self.rise, self.inv_v, self.delta) = (fc, rise, 1.0 / p.v_stribeck, delta);
+        (self.low, self.high) = (p.fc.min(p.fs), p.fc.max(p.fs));
         self.stribeck
             .fill(delta, |u| fc + rise * fastmath::exp_neg(power(u, delta)));
     }
@@ -211,7 +221,8 @@ impl Curves<f32> for CurvesF32 {
             table.segments.get(index as usize)
         {
             let x = offset + u * scale;
-            return c0 + x * (c1 + x * (c2 + x * (c3 + x * (c4 + x * (c5 + x * (c6 + x * c7))))));
+            let s = c0 + x * (c1 + x * (c2 + x * (c3 + x * (c4 + x * (c5 + x * (c6 + x * c7))))));
+            return s.max(self.low).min(self.high);
         }
         self.stribeck_outside(u)
     }

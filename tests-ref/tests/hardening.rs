@@ -161,3 +161,57 @@ fn thousand_metres_then_a_two_micrometre_reversal() {
     // 2 µm (f32 spacing there is 61 µm): the reason positions are counts.
     assert_eq!(1000.0f32 - 2e-6, 1000.0f32);
 }
+
+/// Fuzz finding (target `presliding`): with Fs near the smallest normal
+/// float and an extreme shape exponent, the f32 Stribeck table's
+/// polynomial overshot Fs by a relative 6.5e-4, and |H| exceeded Fs. S is
+/// now clamped to [Fc, Fs].
+#[test]
+fn stribeck_table_never_exceeds_fs() {
+    let p = Params {
+        fc: 9.1653e-41,
+        fs: 2.341_805_2e-38,
+        v_stribeck: 2.341_823_1e-38,
+        delta: 49_041_920.0,
+        sigma: 53_538_096.0,
+        z_max: 0.002_856_928,
+        epsilon: 0.002_856_924,
+    };
+    let model = Model::<f32>::new(p).unwrap();
+    let bound = p.fs * (1.0 + 4.0 * f32::EPSILON);
+    let mut axis = Presliding::<f32>::new(0.0, 1.0).unwrap();
+    // The fuzzer's samples (bit patterns of x and v), then gross sliding
+    // (steps of 1 m ≫ z_max) at float speeds from 2⁻¹⁰·V to 2⁴·V.
+    let found = [
+        (0x00ff_3b3b, 0xff00_0000),
+        (0xff3e_40ff, 0xffff_ffff),
+        (0x0000_0004, 0x0000_0000),
+        (0x0000_0000, 0x0000_0000),
+        (0x0000_0000, 0xff00_0000),
+        (0x0000_00ff, 0x0001_ff00),
+        (0x1902_0000, 0xff3e_4000),
+        (0x3d00_00ff, 0x0a0a_ff00),
+        (0x0000_fff7, 0x00ff_0000),
+        (0x0000_00ff, 0xff00_0000),
+    ];
+    let mut samples: Vec<(f32, f32)> = found
+        .iter()
+        .map(|&(x, v)| (f32::from_bits(x), f32::from_bits(v)))
+        .collect();
+    let (mut x, mut v) = (0.0f32, p.v_stribeck / 1024.0);
+    while v < 16.0 * p.v_stribeck {
+        x += 1.0;
+        samples.push((x, v));
+        v = f32::from_bits(v.to_bits() + (1 << 11));
+    }
+    for (x, v) in samples {
+        if let Ok(f) = axis.update(&model, x, v) {
+            assert!(f.is_finite());
+            assert!(
+                axis.dry().abs() <= bound,
+                "|H| = {} > Fs at x = {x}, v = {v}",
+                axis.dry()
+            );
+        }
+    }
+}
