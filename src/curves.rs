@@ -222,7 +222,15 @@ impl Curves<f32> for CurvesF32 {
         {
             let x = offset + u * scale;
             let s = c0 + x * (c1 + x * (c2 + x * (c3 + x * (c4 + x * (c5 + x * (c6 + x * c7))))));
-            return s.max(self.low).min(self.high);
+            // Two plain comparisons (`f32::max`/`min` handle NaN and cost
+            // 33 instructions per update on the M4F; s is never NaN here).
+            return if s > self.high {
+                self.high
+            } else if s < self.low {
+                self.low
+            } else {
+                s
+            };
         }
         self.stribeck_outside(u)
     }
