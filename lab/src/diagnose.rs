@@ -62,8 +62,7 @@ pub fn visibility(p: &Prepared, m: &Model, effect: Effect) -> f64 {
         s += (with[i] - without[i]).powi(2);
         n += 1;
     }
-    let w_norm = p.kernel.iter().map(|w| w * w).sum::<f64>().sqrt();
-    let noise = p.sigma0 / w_norm;
+    let noise = p.sigma0 / p.kernel_norm();
     if n == 0 || noise.is_nan() || noise <= 0.0 {
         return f64::INFINITY;
     }

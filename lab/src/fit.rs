@@ -167,13 +167,13 @@ fn quantisation_window(rec: &crate::data::Record) -> usize {
     }
     let w_norm = |k: usize| {
         let (_, c2) = sg_coefficients(k);
-        force_kernel(&c2).iter().map(|w| w * w).sum::<f64>().sqrt()
+        norm(&force_kernel(&c2))
     };
     let sigma_f = force_noise(&rec.u);
     let q = p.resolution / 12f64.sqrt();
     let ratio = |k: usize| {
         let (_, c2) = sg_coefficients(k);
-        let c2n = c2.iter().map(|c| c * c).sum::<f64>().sqrt();
+        let c2n = norm(&c2);
         mass * q * c2n / (p.dt * p.dt) / (sigma_f * w_norm(k)).max(1e-300)
     };
     (AUTO_HALF_WIDTH..=MAX_AUTO_HALF_WIDTH)
@@ -276,6 +276,11 @@ fn sg_coefficients(k: usize) -> (Vec<f64>, Vec<f64>) {
     let c1 = js.iter().map(|j| j / s2).collect();
     let c2 = js.iter().map(|j| 2.0 * (j * j - mu2) / d).collect();
     (c1, c2)
+}
+
+/// The Euclidean norm of a kernel.
+fn norm(w: &[f64]) -> f64 {
+    w.iter().map(|w| w * w).sum::<f64>().sqrt()
 }
 
 /// The force kernel `W` with `Δ²W = c2` (summation by parts twice).
@@ -571,8 +576,7 @@ impl Prepared {
         // alone: an upper bound too (Δ³u also holds the command's own fast
         // variations), but one that no missing effect inflates. The lower
         // of the two bounds is taken.
-        let w_norm = self.kernel.iter().map(|w| w * w).sum::<f64>().sqrt();
-        let from_data = self.force_noise * w_norm;
+        let from_data = self.force_noise * self.kernel_norm();
         let sigma0 = match robust(&straight) {
             Some(s) if straight.len() >= 200 && s > 0.0 => s,
             _ => match robust(&pairs(false)) {
@@ -734,6 +738,11 @@ impl Prepared {
             sv[i] = g * slope.min(1e12) + m.sigma;
         });
         (sx, sv)
+    }
+
+    /// `‖W‖`, the factor by which the kernel scales white force noise.
+    pub fn kernel_norm(&self) -> f64 {
+        norm(&self.kernel)
     }
 
     /// Applies the force kernel to a per-sample series `s` at sample `i`.
