@@ -16,7 +16,8 @@
 //!    refitted (Levenberg–Marquardt from a few starting points) and scored on
 //!    the held-out blocks by `BIC = n·ln(mse) + p·ln(n)`. The best candidate
 //!    is accepted only if its BIC is lower **and** it lowers the held-out RMS
-//!    by at least [`ACCEPT_GAIN`] (see there for why both).
+//!    by at least [`ACCEPT_GAIN`] above the floor (see there for why both)
+//!    **and** removes [`MIN_GAP_SHARE`] of the gap.
 //! 4. Repeat until no candidate is accepted; 5. report.
 
 use crate::data::Record;
@@ -88,6 +89,40 @@ pub fn gain_above_floor(before: f64, after: f64, floor: f64) -> f64 {
     } else {
         0.0
     }
+}
+
+/// Least share of the gap (model error above the floor, [`fit::model_error`])
+/// that a named effect must remove, on top of [`required_gain`].
+///
+/// The floor counts force noise and encoder resolution, but not all that a
+/// quantised, servo-driven record leaves unresolved (the last counts
+/// before a stop, chatter within a count), so a record with no missing
+/// effect still shows a gap, and some candidate always absorbs a part of
+/// it. On 260 development records of the independent generator (seeds
+/// 9000–9039, 9200–9229, 9500–9529 and 400000–400159, the last scored as
+/// a fresh sweep before this rule), the steps that named a hidden effect
+/// removed less than 25 % of the gap in 12 of 177 cases, the steps that
+/// named an effect that was not there in 33 of 71.
+pub const MIN_GAP_SHARE: f64 = 0.25;
+
+/// The share of the gap that goes from `before` to `after` (held-out
+/// rms [N]) removes: `1 − e(after)/e(before)` with `e` the model error
+/// above `floor`; 0 when there is no gap.
+pub fn gap_share(before: f64, after: f64, floor: f64) -> f64 {
+    let e0 = fit::model_error(before, floor);
+    if e0 > 0.0 {
+        1.0 - fit::model_error(after, floor) / e0
+    } else {
+        0.0
+    }
+}
+
+/// Whether moving the held-out rms from `before` to `after` [N] is enough
+/// to name `effect`: [`required_gain`] of the rms above the floor and
+/// [`MIN_GAP_SHARE`] of the gap.
+pub fn enough_gain(effect: Effect, before: f64, after: f64, floor: f64) -> bool {
+    gain_above_floor(before, after, floor) >= required_gain(effect)
+        && gap_share(before, after, floor) >= MIN_GAP_SHARE
 }
 
 /// The gain a candidate must reach.
@@ -797,7 +832,7 @@ pub fn dwell_spread(p: &Prepared, m: &Model) -> f64 {
     let mut start: Option<f64> = Some(p.t[0]);
     let (mut lo, mut hi, mut n) = (f64::INFINITY, f64::NEG_INFINITY, 0);
     for i in 0..p.len() {
-        if p.v[i].abs() <= dw.v_rest {
+        if p.model_velocity(i).abs() <= dw.v_rest {
             start.get_or_insert(p.t[i]);
         } else if let Some(s) = start.take() {
             let td = p.t[i] - s;
@@ -1051,7 +1086,7 @@ pub fn signal_series(p: &Prepared, m: &Model) -> Vec<(String, Vec<f64>)> {
     let mut t_motion = p.t[0];
     let rest_speed = p.v_rest;
     for i in 0..n {
-        fr.update(m, p.t[i], p.x[i], p.v[i]);
+        fr.update(m, p.t[i], p.x[i], p.model_velocity(i));
         let d = fr.direction();
         if d != last_d {
             t_tp = p.t[i];
@@ -1059,7 +1094,7 @@ pub fn signal_series(p: &Prepared, m: &Model) -> Vec<(String, Vec<f64>)> {
         }
         dir[i] = f64::from(d);
         since_tp[i] = p.t[i] - t_tp;
-        if p.v[i].abs() <= rest_speed {
+        if p.model_velocity(i).abs() <= rest_speed {
             if rest_start.is_none() {
                 rest_start = Some(p.t[i]);
             }
@@ -1370,7 +1405,7 @@ pub fn diagnose(
         cands.sort_by(|a, b| a.score.total_cmp(&b.score));
         prefer_nested(&mut cands, floor);
         let accept = cands.first().is_some_and(|c| {
-            c.score < 0.0 && gain_above_floor(rms, c.rms, floor) >= required_gain(c.effect)
+            c.score < 0.0 && enough_gain(c.effect, rms, c.rms, floor)
         });
         if !accept {
             last_round = cands;
@@ -1411,7 +1446,7 @@ pub fn diagnose(
             let params = fit::params_of(&without);
             let refit = fit::fit(&p, &without, &params, &FitOptions::default(), &mut |_| {}).model;
             let (w_rms, w_r) = held_rms(&p, &refit);
-            if gain_above_floor(w_rms, rms, floor) < required_gain(effect) {
+            if !enough_gain(effect, w_rms, rms, floor) {
                 pruned.push((
                     effect,
                     fit::model_error(w_rms, floor),
@@ -1621,6 +1656,7 @@ pub fn report_json(rep: &Report) -> String {
         "pruned": rep.pruned.iter().map(|(n, without, with)| json!({"effect": n.name(), "rms_without": without, "rms_with": with})).collect::<Vec<_>>(),
         "rejected": rep.last_round.iter().map(|c| json!({"effect": c.effect.name(), "rms": c.rms, "score": c.score})).collect::<Vec<_>>(),
         "accept_gain": ACCEPT_GAIN,
+        "min_gap_share": MIN_GAP_SHARE,
         "start_model": model_json(&rep.start),
         "model": model_json(&rep.model),
         "samples": rep.n,
@@ -1729,12 +1765,13 @@ pub fn report_text(rep: &Report, source: &str) -> String {
         let _ = writeln!(s, "        fitted: {}", effect_params(&st.model, st.effect));
     }
     if rep.steps.is_empty() {
-        let _ = writeln!(s, "no effect is missing: no candidate lowers the held-out rms by {:.0} % above the floor with a better BIC", 100.0 * ACCEPT_GAIN);
+        let _ = writeln!(s, "no effect is missing: no candidate lowers the held-out rms by {:.0} % above the floor and removes {:.0} % of the gap with a better BIC", 100.0 * ACCEPT_GAIN, 100.0 * MIN_GAP_SHARE);
     } else {
         let _ = writeln!(
             s,
-            "done: no further candidate lowers the held-out rms by {:.0} % above the floor; gap {} N -> {} N ({}); the remaining rms {} N is {:.0} % noise and resolution",
+            "done: no further candidate lowers the held-out rms by {:.0} % above the floor and removes {:.0} % of the gap; gap {} N -> {} N ({}); the remaining rms {} N is {:.0} % noise and resolution",
             100.0 * ACCEPT_GAIN,
+            100.0 * MIN_GAP_SHARE,
             short(rep.rms_before, 4),
             short(rep.rms_after, 4),
             pct(rep.rms_before, rep.rms_after),

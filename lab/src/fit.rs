@@ -626,9 +626,9 @@ impl Prepared {
         self.still.clone_from(&self.window_still);
         let h = STOP_HALF_WIDTH;
         let valid = self.valid();
-        let mut fr = Friction::new(m, self.t[0], self.x[0], self.v[0]);
+        let mut fr = Friction::new(m, self.t[0], self.x[0], self.model_velocity(0));
         for i in 0..n {
-            fr.update(m, self.t[i], self.x[i], self.v[i]);
+            fr.update(m, self.t[i], self.x[i], self.model_velocity(i));
             if !self.still[i] && valid.contains(&i) && i >= h && i + h < n {
                 let on_count = self.x[i - h..=i + h].iter().all(|&x| x == self.x[i]);
                 let pre = fr.presliding();
@@ -676,6 +676,21 @@ impl Prepared {
         }
     }
 
+    /// The velocity [m/s] the model runs at on sample `i`: `v̂`, and 0 on
+    /// the still samples. MODEL.md §5: in measured data a rest is where the
+    /// position stays within the encoder's resolution, so the rest that the
+    /// `dwell_stiction` clock counts (and the lagged velocity at rest) must
+    /// not restart on the ±1-count dither of a held axis, whose `v̂` of about
+    /// `q/(k·h)` exceeds a small `v_rest`. (At still samples the friction is
+    /// the measured force in any case.)
+    pub fn model_velocity(&self, i: usize) -> f64 {
+        if self.still[i] {
+            0.0
+        } else {
+            self.v[i]
+        }
+    }
+
     /// Runs the friction memory of `m` along the measured motion and calls
     /// `f(i, &friction)` after each sample's update. After a still sample
     /// the memory is re-anchored at the measured force (see
@@ -684,9 +699,9 @@ impl Prepared {
     /// of the lab over a record goes through here, so they all see the same
     /// memory.
     pub fn walk(&self, m: &Model, mut f: impl FnMut(usize, &Friction)) {
-        let mut fr = Friction::new(m, self.t[0], self.x[0], self.v[0]);
+        let mut fr = Friction::new(m, self.t[0], self.x[0], self.model_velocity(0));
         for i in 0..self.len() {
-            fr.update(m, self.t[i], self.x[i], self.v[i]);
+            fr.update(m, self.t[i], self.x[i], self.model_velocity(i));
             f(i, &fr);
             if self.still[i] {
                 let additive = fr.force() - fr.dry();
@@ -1407,5 +1422,52 @@ mod tests {
         let w = auto_window(&rec);
         assert_eq!(w.velocity, AUTO_HALF_WIDTH);
         assert!(w.force >= 32 && w.force <= MAX_AUTO_HALF_WIDTH, "{w:?}");
+    }
+
+    /// MODEL.md §5: in measured data a rest is where the position stays
+    /// within the encoder's resolution. A held axis that dithers on a count
+    /// boundary (`v̂` of a count per few samples, far above a small `v_rest`)
+    /// is at rest all along: the `dwell_stiction` clock the model runs
+    /// along the record reads the whole hold when the motion starts.
+    #[test]
+    fn dwell_clock_counts_a_dithering_hold() {
+        let q = 1e-6;
+        // 2 s hold with a one-count dither every 7 ms, then a 5 mm/s move.
+        let rec = record(3000, 1e-3, |t| {
+            if t < 2.0 {
+                if ((t * 1e3).round() as i64 / 7) % 2 == 0 {
+                    0.0
+                } else {
+                    q
+                }
+            } else {
+                q * ((t - 2.0) * 5e-3 / q).floor()
+            }
+        });
+        let p = Prepared::with_window(&rec, Window { velocity: 4, force: 32 });
+        let mut m = Model {
+            mass: 1.0,
+            fc: 1.0,
+            fs: 1.5,
+            v_stribeck: 1e-3,
+            delta: 1.0,
+            sigma: 0.0,
+            z_max: 1e-5,
+            epsilon: 0.0,
+            effects: Default::default(),
+        };
+        m.effects.dwell_stiction = Some(DwellStiction {
+            delta_fs: 0.5,
+            gamma: 0.5,
+            v_rest: 1e-5,
+        });
+        let start = p.t.iter().position(|&t| t >= 2.05).unwrap_or(0);
+        let mut td = 0.0;
+        p.walk(&m, |i, fr| {
+            if i == start {
+                td = fr.dwell_time();
+            }
+        });
+        assert!(td > 1.9 && td < 2.1, "t_d {td} s after a 2 s hold");
     }
 }
