@@ -3,7 +3,8 @@
 #![cfg(feature = "hal")]
 
 use breakaway::compensation::{ConfigError, Setting};
-use breakaway::hal::{DutyMode, PwmForce, WriteError};
+use breakaway::hal::{DutyMode, PwmForce};
+use breakaway::SampleError;
 use embedded_hal::pwm::{ErrorType, SetDutyCycle};
 
 #[derive(Debug)]
@@ -49,7 +50,7 @@ fn centered_scale_with_saturation() {
         assert!((a.force - (duty as f32 / 500.0 - 1.0) * 2.0).abs() < 1e-6);
     }
     // A non-finite force leaves the output as it was.
-    assert_eq!(out.write(f32::NAN), Err(WriteError::NonFiniteForce));
+    assert_eq!(out.write(f32::NAN), Err(SampleError::Force));
     assert_eq!(out.inner().duty, Some(501));
 }
 
@@ -132,4 +133,37 @@ fn fixed_point_duty_equals_the_f32_duty() {
         .unwrap_err(),
         ConfigError(Setting::FullScale)
     );
+}
+
+/// A driver error comes back as the crate's one per-sample error, with the
+/// driver's `ErrorKind`.
+#[test]
+fn driver_error_is_a_sample_error() {
+    use embedded_hal::pwm::{Error, ErrorKind};
+
+    #[derive(Debug)]
+    struct Broken;
+    impl Error for Broken {
+        fn kind(&self) -> ErrorKind {
+            ErrorKind::Other
+        }
+    }
+    struct Failing;
+    impl ErrorType for Failing {
+        type Error = Broken;
+    }
+    impl SetDutyCycle for Failing {
+        fn max_duty_cycle(&self) -> u16 {
+            100
+        }
+        fn set_duty_cycle(&mut self, _: u16) -> Result<(), Self::Error> {
+            Err(Broken)
+        }
+    }
+
+    let mut out = PwmForce::new(Failing, 1.0, DutyMode::Centered).unwrap();
+    let e = out.write(0.5).unwrap_err();
+    assert_eq!(e, SampleError::Pwm(ErrorKind::Other));
+    assert!(e.to_string().starts_with("PWM driver error: "), "{e}");
+    assert_eq!(out.write(f32::INFINITY), Err(SampleError::Force));
 }

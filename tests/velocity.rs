@@ -5,10 +5,8 @@
 //! constant speed through a quantising encoder, a wrapping 32-bit counter,
 //! Q16 against `f32`, and rejected settings and samples.
 
-use breakaway::compensation::{
-    ConfigError, Setting, SignalError, VelocityConfig, VelocityEstimator,
-};
-use breakaway::{Model, Params, Scalar, Q16};
+use breakaway::compensation::{ConfigError, Setting, VelocityConfig, VelocityEstimator};
+use breakaway::{Model, Params, SampleError, Scalar, Q16};
 
 const PERIOD: f32 = 1e-3;
 
@@ -169,7 +167,7 @@ fn rejects_bad_settings_and_samples() {
     }
     let before = estimator.clone();
     for x in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
-        assert_eq!(estimator.update(x), Err(SignalError::Position));
+        assert_eq!(estimator.update(x), Err(SampleError::Position));
     }
     assert_eq!(estimator, before);
     // A jump to the far end of f32 keeps the state finite.

@@ -4,7 +4,7 @@
 
 use breakaway::compensation::{
     AdaptationConfig, BreakAwayDetector, ConfigError, DetectorConfig, DisturbanceObserver,
-    Feedforward, FeedforwardConfig, LevelAdaptation, ObserverConfig, Setting, SignalError,
+    Feedforward, FeedforwardConfig, LevelAdaptation, ObserverConfig, Setting,
 };
 use breakaway::{Model, Params, SampleError, Variant};
 use breakaway_reference as reference;
@@ -151,13 +151,10 @@ fn feedforward_options() {
     assert!((u as f64 - 1.1 * want).abs() < 1e-6);
     // A rejected sample changes nothing.
     let before = ff.clone();
-    assert_eq!(
-        ff.update(&model, f32::NAN, 0.0),
-        Err(SampleError::NonFinitePosition)
-    );
+    assert_eq!(ff.update(&model, f32::NAN, 0.0), Err(SampleError::Position));
     assert_eq!(
         ff.update(&model, 0.0, f32::INFINITY),
-        Err(SampleError::NonFiniteVelocity)
+        Err(SampleError::Velocity)
     );
     assert_eq!(ff, before);
     // Settings are validated and named.
@@ -291,10 +288,10 @@ fn adaptation_is_frozen_bounded_and_rejects_bad_samples() {
         a.update(100.0, 1.0, 0.1, true).unwrap();
     }
     assert_eq!(a.scale(), 1.5);
-    assert_eq!(a.update(f32::NAN, 1.0, 0.1, true), Err(SignalError::Force));
+    assert_eq!(a.update(f32::NAN, 1.0, 0.1, true), Err(SampleError::Force));
     assert_eq!(
         a.update(1.0, 1.0, f32::NAN, true),
-        Err(SignalError::Velocity)
+        Err(SampleError::Velocity)
     );
     assert_eq!(a.scale(), 1.5);
     for (c, s) in [
@@ -358,12 +355,12 @@ fn observer_rejects_bad_samples_and_settings() {
     o.update(1.0, 0.0, 0.0).unwrap();
     o.update(1.0, 0.0, 0.0).unwrap();
     let before = o.clone();
-    assert_eq!(o.update(f32::NAN, 0.0, 0.0), Err(SignalError::Command));
+    assert_eq!(o.update(f32::NAN, 0.0, 0.0), Err(SampleError::Command));
     assert_eq!(
         o.update(0.0, f32::INFINITY, 0.0),
-        Err(SignalError::Velocity)
+        Err(SampleError::Velocity)
     );
-    assert_eq!(o.update(0.0, 0.0, f32::NAN), Err(SignalError::Force));
+    assert_eq!(o.update(0.0, 0.0, f32::NAN), Err(SampleError::Force));
     assert_eq!(o, before);
     // A constant force with the axis held still is all disturbance: the
     // estimate rises as 1 − e^(−g·t).
@@ -451,7 +448,7 @@ fn detector_measures_the_break_away_of_the_reference_dynamics() {
     let before = detector.clone();
     assert_eq!(
         detector.update(&model, f32::NAN, 0.0),
-        Err(SignalError::Command)
+        Err(SampleError::Command)
     );
     assert_eq!(detector, before);
 }
@@ -650,11 +647,11 @@ fn detector_range_and_rejected_samples() {
             let before = float.clone();
             assert_eq!(
                 float.update(&float_model, f32::NAN, v),
-                Err(SignalError::Command)
+                Err(SampleError::Command)
             );
             assert_eq!(
                 float.update(&float_model, u, f32::INFINITY),
-                Err(SignalError::Velocity)
+                Err(SampleError::Velocity)
             );
             assert_eq!(float, before);
         }
