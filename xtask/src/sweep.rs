@@ -15,7 +15,12 @@
 //! not tuned on a sweep's seeds.
 
 use crate::{cargo, root, run};
+use indicatif::{ProgressBar, ProgressStyle};
+use serde::de::DeserializeOwned;
+use serde::Deserialize;
 use serde_json::{json, Value};
+use std::collections::HashMap;
+use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -106,30 +111,51 @@ impl Scored {
     }
 }
 
-fn strings(v: &Value) -> Vec<String> {
-    v.as_array()
-        .map(|a| {
-            a.iter()
-                .filter_map(|s| s.as_str().map(str::to_string))
-                .collect()
-        })
-        .unwrap_or_default()
+/// What `truth.json` of the generator says about a record (the fields the
+/// score reads; a missing field is empty).
+#[derive(Debug, Default, Deserialize)]
+#[serde(default)]
+pub struct Truth {
+    /// Hidden effects.
+    pub hidden: Vec<String>,
+    /// Effects a correct diagnosis may add.
+    pub accept_extra: Vec<String>,
+    /// Visibility per hidden effect (`null` when not finite).
+    pub visibility: HashMap<String, Option<f64>>,
+    /// Plant of the generator (`model` when absent).
+    pub plant: Option<String>,
+}
+
+/// What the score reads of `breakaway-lab diagnose --json`.
+#[derive(Debug, Deserialize)]
+pub struct Report {
+    /// Effects named, in order.
+    #[serde(default)]
+    pub effects_added: Vec<String>,
+    /// Gap before [N] (`null` when not finite).
+    pub rms_before: Option<f64>,
+    /// Gap after [N].
+    pub rms_after: Option<f64>,
 }
 
 /// Scores the report `report` against the truth `truth` (module doc).
-pub fn score(name: &str, truth: &Value, report: Result<Value, String>) -> Scored {
-    let hidden = strings(&truth["hidden"]);
-    let extra = strings(&truth["accept_extra"]);
+pub fn score(name: &str, truth: Truth, report: Result<Report, String>) -> Scored {
+    let Truth {
+        hidden,
+        accept_extra: extra,
+        visibility: seen,
+        plant,
+    } = truth;
     let visibility = hidden
         .iter()
         .map(|h| {
             (
                 h.clone(),
-                truth["visibility"][h].as_f64().unwrap_or(f64::NAN),
+                seen.get(h).copied().flatten().unwrap_or(f64::NAN),
             )
         })
         .collect();
-    let plant = truth["plant"].as_str().unwrap_or("model").to_string();
+    let plant = plant.unwrap_or_else(|| "model".into());
     match report {
         Err(e) => Scored {
             name: name.into(),
@@ -142,14 +168,14 @@ pub fn score(name: &str, truth: &Value, report: Result<Value, String>) -> Scored
             failed: Some(e),
         },
         Ok(rep) => {
-            let named = strings(&rep["effects_added"]);
+            let named = rep.effects_added;
             let exact = hidden.iter().all(|h| named.contains(h))
                 && named
                     .iter()
                     .all(|n| hidden.contains(n) || extra.contains(n));
             let shrink = (!hidden.is_empty()).then(|| {
-                let b = rep["rms_before"].as_f64().unwrap_or(f64::NAN);
-                let a = rep["rms_after"].as_f64().unwrap_or(f64::NAN);
+                let b = rep.rms_before.unwrap_or(f64::NAN);
+                let a = rep.rms_after.unwrap_or(f64::NAN);
                 1.0 - a / b
             });
             Scored {
@@ -166,7 +192,7 @@ pub fn score(name: &str, truth: &Value, report: Result<Value, String>) -> Scored
     }
 }
 
-fn read_json(path: &Path) -> Result<Value, String> {
+fn read_json<T: DeserializeOwned>(path: &Path) -> Result<T, String> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
     serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))
@@ -212,12 +238,13 @@ pub fn sweep(o: &Options) -> Result<Vec<Scored>, String> {
     let total = dirs.len();
     let done = AtomicUsize::new(0);
     let lab = bin.join("breakaway-lab");
+    let bar = progress_bar(total);
     let one = |dir: &PathBuf| -> Scored {
         let name = dir
             .file_name()
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_default();
-        let truth = read_json(&dir.join("truth.json")).unwrap_or(Value::Null);
+        let truth = read_json(&dir.join("truth.json")).unwrap_or_default();
         let report_path = dir.join("report.json");
         let status = Command::new(&lab)
             .arg("diagnose")
@@ -230,14 +257,20 @@ pub fn sweep(o: &Options) -> Result<Vec<Scored>, String> {
             Ok(out) => Err(String::from_utf8_lossy(&out.stderr).trim().to_string()),
             Err(e) => Err(format!("cannot run breakaway-lab: {e}")),
         };
-        let s = score(&name, &truth, report);
+        let s = score(&name, truth, report);
         let k = done.fetch_add(1, Ordering::Relaxed) + 1;
-        eprintln!(
+        let line = format!(
             "sweep [{k}/{total}] {name}: hidden [{}] named [{}]{}",
             s.hidden.join(", "),
             s.named.join(", "),
             if s.success() { "" } else { "  <- miss" }
         );
+        if bar.is_hidden() {
+            eprintln!("{line}");
+        } else {
+            bar.println(line);
+            bar.inc(1);
+        }
         s
     };
     let mut scored: Vec<Scored> = std::thread::scope(|sc| {
@@ -252,8 +285,22 @@ pub fn sweep(o: &Options) -> Result<Vec<Scored>, String> {
             .flat_map(|h| h.join().unwrap_or_default())
             .collect()
     });
+    bar.finish_and_clear();
     scored.sort_by(|a, b| a.name.cmp(&b.name));
     Ok(scored)
+}
+
+/// A progress bar under the per-record lines on a terminal; hidden
+/// elsewhere, where the lines alone are printed.
+fn progress_bar(total: usize) -> ProgressBar {
+    if !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::new(total as u64);
+    if let Ok(style) = ProgressStyle::with_template("sweep {bar:40} {pos}/{len} [{elapsed}]") {
+        bar.set_style(style);
+    }
+    bar
 }
 
 fn median(mut v: Vec<f64>) -> f64 {
@@ -437,4 +484,37 @@ pub fn smoke() -> Result<(), String> {
         ));
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn scores_a_truth_file_against_a_report() {
+        let truth: Truth = serde_json::from_str(
+            r#"{"name": "s1", "seed": 1, "plant": "lugre", "hidden": ["offset"],
+                "accept_extra": ["frictional_lag"], "visibility": {"offset": 25.0},
+                "targets": {"offset": 0.1}}"#,
+        )
+        .unwrap();
+        let report: Report = serde_json::from_str(
+            r#"{"effects_added": ["offset", "frictional_lag"], "rms_before": 1.0,
+                "rms_after": 0.25, "model": {"fc": 1.0}}"#,
+        )
+        .unwrap();
+        let s = score("s1", truth, Ok(report));
+        assert!(s.exact && s.success());
+        assert_eq!(s.plant, "lugre");
+        assert_eq!(s.visibility, vec![("offset".to_string(), 25.0)]);
+        assert_eq!(s.shrink, Some(0.75));
+        // An unreadable truth file scores as a record without hidden
+        // effects on the model plant; a null rms is not finite.
+        let report: Report =
+            serde_json::from_str(r#"{"effects_added": [], "rms_before": null}"#).unwrap();
+        let s = score("s2", Truth::default(), Ok(report));
+        assert_eq!((s.plant.as_str(), s.exact, s.shrink), ("model", true, None));
+        let s = score("s3", Truth::default(), Err("failed".into()));
+        assert_eq!(s.failed.as_deref(), Some("failed"));
+    }
 }
