@@ -6,7 +6,10 @@
 //! Q16 against `f32`, and rejected settings and samples.
 
 use breakaway::compensation::{ConfigError, Setting, VelocityConfig, VelocityEstimator};
-use breakaway::{Model, Params, SampleError, Scalar, Q16};
+use breakaway::{Model, SampleError, Scalar, Q16};
+
+mod support;
+use support::FIG5;
 
 const PERIOD: f32 = 1e-3;
 
@@ -104,16 +107,7 @@ fn no_lag_at_constant_speed_through_an_encoder_and_a_wrapping_counter() {
 
 #[test]
 fn q16_estimator_matches_the_f32_estimator() {
-    let model = Model::<Q16>::new(Params {
-        fc: 1.0,
-        fs: 1.5,
-        v_stribeck: 1e-3,
-        delta: 1.0,
-        sigma: 0.0,
-        z_max: 1e-5,
-        epsilon: 0.0,
-    })
-    .unwrap();
+    let model = Model::<Q16>::new(FIG5).unwrap();
     let units = model.units();
     let scale = model.position_scale::<i32>(1e-6).unwrap();
     let mut fixed =

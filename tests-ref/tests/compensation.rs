@@ -9,71 +9,8 @@ use breakaway::compensation::{
 use breakaway::{Model, Params, SampleError, Variant};
 use breakaway_reference as reference;
 
-const FIG5: Params = Params {
-    fc: 1.0,
-    fs: 1.5,
-    v_stribeck: 1e-3,
-    delta: 1.0,
-    sigma: 0.0,
-    z_max: 1e-5,
-    epsilon: 0.0,
-};
-
-fn reference_model(p: &Params, mass: f64, level: f64) -> reference::Model {
-    reference::Model {
-        mass,
-        fc: p.fc as f64 * level,
-        fs: p.fs as f64 * level,
-        v_stribeck: p.v_stribeck as f64,
-        delta: p.delta as f64,
-        sigma: p.sigma as f64,
-        z_max: p.z_max as f64,
-        epsilon: p.epsilon as f64,
-        effects: reference::Effects::default(),
-    }
-}
-
-/// m·ẍ = u − F with F from the reference `Friction`, integrated by
-/// semi-implicit Euler with sub-steps far below the presliding period.
-struct Plant {
-    model: reference::Model,
-    friction: reference::Friction,
-    t: f64,
-    x: f64,
-    v: f64,
-    /// Mean friction over the last period [N].
-    mean_friction: f64,
-}
-
-impl Plant {
-    const SUBSTEPS: usize = 200;
-
-    fn new(model: reference::Model) -> Self {
-        let friction = reference::Friction::new(&model, 0.0, 0.0, 0.0);
-        Self {
-            model,
-            friction,
-            t: 0.0,
-            x: 0.0,
-            v: 0.0,
-            mean_friction: 0.0,
-        }
-    }
-
-    /// Holds `u` [N] for `period` [s].
-    fn step(&mut self, u: f64, period: f64) {
-        let h = period / Self::SUBSTEPS as f64;
-        let mut sum = 0.0;
-        for _ in 0..Self::SUBSTEPS {
-            let f = self.friction.update(&self.model, self.t, self.x, self.v);
-            sum += f;
-            self.v += h * (u - f) / self.model.mass;
-            self.x += h * self.v;
-            self.t += h;
-        }
-        self.mean_friction = sum / Self::SUBSTEPS as f64;
-    }
-}
+mod common;
+use common::{reference_model, Plant, FIG5};
 
 #[test]
 fn feedforward_follows_the_reference_presliding_model() {
@@ -82,7 +19,7 @@ fn feedforward_follows_the_reference_presliding_model() {
         ..FIG5
     };
     let model = Model::<f32>::new(p).unwrap();
-    let judge_model = reference_model(&p, 1.0, 1.0);
+    let judge_model = reference_model(&p);
     let mut judge = reference::Presliding::new(0.0);
     let mut ff = Feedforward::<f32>::new(FeedforwardConfig::default(), 0.0, 1.0).unwrap();
     let mut worst = 0.0f64;
@@ -202,7 +139,11 @@ fn sliding_run(
 ) -> (Plant, DisturbanceObserver, LevelAdaptation, f32) {
     const T: f32 = 1e-3;
     let model = Model::<f32>::new(FIG5).unwrap();
-    let mut plant = Plant::new(reference_model(&FIG5, 1.0, level));
+    let mut plant = Plant::new(reference::Model {
+        fc: FIG5.fc as f64 * level,
+        fs: FIG5.fs as f64 * level,
+        ..reference_model(&FIG5)
+    });
     let mut ff = Feedforward::<f32>::new(FeedforwardConfig::default(), 0.0, 1.0).unwrap();
     let mut observer = DisturbanceObserver::new(ObserverConfig {
         mass: 1.0,
@@ -399,7 +340,7 @@ fn observer_rejects_bad_samples_and_settings() {
 #[test]
 fn detector_measures_the_break_away_of_the_reference_dynamics() {
     let model = Model::<f32>::new(FIG5).unwrap();
-    let judge = reference_model(&FIG5, 1.0, 1.0);
+    let judge = reference_model(&FIG5);
     const T: f64 = 1e-4;
     let config = DetectorConfig {
         period: T as f32,
@@ -528,7 +469,7 @@ fn fixed_detector_matches_the_f32_detector_on_the_reference_dynamics() {
     use breakaway::{Scalar, Q16};
     let float_model = Model::<f32>::new(FIG5).unwrap();
     let fixed_model = Model::<Q16>::new(FIG5).unwrap();
-    let judge = reference_model(&FIG5, 1.0, 1.0);
+    let judge = reference_model(&FIG5);
     let (mut worst_k, mut worst_f, mut worst_t, mut worst_p) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
     // min_rate at least two Q16 command steps per sample, 2⁻¹⁵·Fs/T
     // (0.46 N/s at 10 kHz).
@@ -678,7 +619,7 @@ fn fixed_detector_admits_two_command_steps_per_sample() {
     let step = fs / 65536.0; // N
     let float_model = Model::<f32>::new(FIG5).unwrap();
     let fixed_model = Model::<Q16>::new(FIG5).unwrap();
-    let judge = reference_model(&FIG5, 1.0, 1.0);
+    let judge = reference_model(&FIG5);
     let velocity = |v: f32| fixed_model.velocity(v).unwrap();
     // The command in Fs, rounded once (from the f32 command in N), or twice:
     // first to 2⁻¹⁶ N, as a controller computing in Q16 newtons would.
@@ -816,7 +757,7 @@ fn fixed_feedforward_follows_the_reference_presliding_model() {
     };
     let model = Model::<Q16>::new(p).unwrap();
     let scale = model.position_scale::<i32>(1e-8).unwrap();
-    let judge_model = reference_model(&p, 1.0, 1.0);
+    let judge_model = reference_model(&p);
     let mut judge = reference::Presliding::new(0.0);
     let config = FeedforwardConfig {
         gain: 1.0,
@@ -856,7 +797,7 @@ fn fixed_observer_matches_the_f32_observer_on_the_reference_plant() {
     };
     let mut float = DisturbanceObserver::new(config).unwrap();
     let mut fixed = DisturbanceObserver::<Q16>::with_units(config, model.units()).unwrap();
-    let mut plant = Plant::new(reference_model(&FIG5, 1.0, 1.0));
+    let mut plant = Plant::new(reference_model(&FIG5));
     let (v_ref, mut integral, mut u) = (0.02f64, 0.0f64, 0.0f64);
     let mut worst = 0.0f64;
     for _ in 0..1000 {
