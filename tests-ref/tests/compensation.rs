@@ -12,12 +12,15 @@ use breakaway_reference as reference;
 mod common;
 use common::{reference_model, Plant, FIG5};
 
+/// Fig. 5 with viscous friction σ = 50 N·s/m (σ·V = Fs/30).
+const VISCOUS: Params = Params {
+    sigma: 50.0,
+    ..FIG5
+};
+
 #[test]
 fn feedforward_follows_the_reference_presliding_model() {
-    let p = Params {
-        sigma: 50.0,
-        ..FIG5
-    };
+    let p = VISCOUS;
     let model = Model::<f32>::new(p).unwrap();
     let judge_model = reference_model(&p);
     let mut judge = reference::Presliding::new(0.0);
@@ -751,10 +754,7 @@ fn fixed_detector_settings() {
 #[test]
 fn fixed_feedforward_follows_the_reference_presliding_model() {
     use breakaway::{Scalar, Q16};
-    let p = Params {
-        sigma: 50.0,
-        ..FIG5
-    };
+    let p = VISCOUS;
     let model = Model::<Q16>::new(p).unwrap();
     let scale = model.position_scale::<i32>(1e-8).unwrap();
     let judge_model = reference_model(&p);
