@@ -10,10 +10,9 @@ use breakaway::hal::{DutyMode, PwmForce};
 use breakaway::{Model, Params, Scalar, Q16};
 use embedded_hal::pwm::{ErrorType, SetDutyCycle};
 
-// The Fig. 5 setting of the tests (`tests/support`).
-#[path = "../../tests/support/mod.rs"]
-mod support;
-const PARAMS: Params = support::FIG5;
+// The Fig. 5 setting of the tests; every includer also includes
+// `tests/support` as its sibling module `support`.
+const PARAMS: Params = super::support::FIG5;
 /// Metres per count and control period [s].
 const COUNT: f32 = 1e-8;
 const PERIOD: f32 = 1e-3;

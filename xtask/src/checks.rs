@@ -235,7 +235,8 @@ fn soft_f64_symbols(elf: &std::path::Path) -> Result<Vec<String>, String> {
     Ok(names.into_iter().filter(|name| f64_routine(name)).collect())
 }
 
-/// The test support the firmware examples share (`Strokes` of `long_run`).
+/// The test support the firmware examples share (`Strokes` of `long_run`,
+/// the parameters of `compensation_loop`).
 #[path = "../../tests/support/mod.rs"]
 mod support;
 
