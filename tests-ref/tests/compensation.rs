@@ -18,6 +18,16 @@ const VISCOUS: Params = Params {
     ..FIG5
 };
 
+/// Sample `n` (1 ms period) of a 0.5 Hz sinusoid of 3·z_max with a 0.4·z_max
+/// ripple at 7.3 times the frequency: position [m] and velocity [m/s].
+fn ripple(n: i32) -> (f64, f64) {
+    let t = n as f64 * 1e-3;
+    let w = 2.0 * std::f64::consts::PI * 0.5;
+    let x = 3e-5 * (w * t).sin() + 4e-6 * (7.3 * w * t).sin();
+    let v = 3e-5 * w * (w * t).cos() + 4e-6 * 7.3 * w * (7.3 * w * t).cos();
+    (x, v)
+}
+
 #[test]
 fn feedforward_follows_the_reference_presliding_model() {
     let p = VISCOUS;
@@ -27,10 +37,7 @@ fn feedforward_follows_the_reference_presliding_model() {
     let mut ff = Feedforward::<f32>::new(FeedforwardConfig::default(), 0.0, 1.0).unwrap();
     let mut worst = 0.0f64;
     for n in 0..4000 {
-        let t = n as f64 * 1e-3;
-        let w = 2.0 * std::f64::consts::PI * 0.5;
-        let x = 3e-5 * (w * t).sin() + 4e-6 * (7.3 * w * t).sin();
-        let v = 3e-5 * w * (w * t).cos() + 4e-6 * 7.3 * w * (7.3 * w * t).cos();
+        let (x, v) = ripple(n);
         let u = ff.update(&model, x as f32, v as f32).unwrap();
         let want = judge.update(&judge_model, x as f32 as f64, v as f32 as f64);
         worst = worst.max((u as f64 - want).abs() / p.fs as f64);
@@ -767,10 +774,7 @@ fn fixed_feedforward_follows_the_reference_presliding_model() {
     let mut ff = Feedforward::<i32, Q16>::with_units(config, model.units(), 0, scale).unwrap();
     let mut worst = 0.0f64;
     for n in 0..4000 {
-        let t = n as f64 * 1e-3;
-        let w = 2.0 * std::f64::consts::PI * 0.5;
-        let x = 3e-5 * (w * t).sin() + 4e-6 * (7.3 * w * t).sin();
-        let v = 3e-5 * w * (w * t).cos() + 4e-6 * 7.3 * w * (7.3 * w * t).cos();
+        let (x, v) = ripple(n);
         let count = (x / 1e-8).round() as i32;
         let v_q = model.velocity(v as f32).unwrap();
         let u = ff.update(&model, count, v_q).unwrap().to_f32() as f64 * p.fs as f64;

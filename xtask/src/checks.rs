@@ -108,16 +108,8 @@ pub fn presliding_loop(target: Target) -> Result<String, String> {
         ));
     }
     let count = 1e-8f32;
-    let host_model = breakaway::Model::<f32>::new(breakaway::Params {
-        fc: model.fc as f32,
-        fs: model.fs as f32,
-        v_stribeck: model.v_stribeck as f32,
-        delta: model.delta as f32,
-        sigma: model.sigma as f32,
-        z_max: model.z_max as f32,
-        epsilon: model.epsilon as f32,
-    })
-    .map_err(|e| e.to_string())?;
+    // The parameters the firmware runs (the f32 values of fig5.toml).
+    let host_model = breakaway::Model::<f32>::new(support::FIG5).map_err(|e| e.to_string())?;
     let mut judge = reference::Presliding::new(0.0);
     let mut host =
         breakaway::Presliding::<i64, f32, 8>::new(0, count).map_err(|e| e.to_string())?;
