@@ -1,48 +1,49 @@
 //! The one error of the per-sample path: a sample that cannot be used.
 //!
-//! Every `update` of the library ([`Presliding`](crate::Presliding), the
-//! [`compensation`](crate::compensation) blocks) and
-//! `hal::PwmForce::write` (feature `hal`) check their inputs for NaN and ±∞
-//! and return this error, naming the signal at fault; the state (or the
-//! output) is then left as it was, and the next finite sample proceeds
-//! normally. Parameters are checked once, when the blocks are built
-//! ([`ParamError`](crate::ParamError),
-//! [`ConfigError`](crate::compensation::ConfigError)), so nothing else can go
-//! wrong in a control period. One type for the whole loop lets a control
-//! function use `?` on every block:
-//!
-//! ```
-//! use breakaway::compensation::{DisturbanceObserver, ObserverConfig};
-//! use breakaway::{Model, Params, Presliding, SampleError};
-//!
-//! fn period(
-//!     model: &Model<f32>,
-//!     axis: &mut Presliding<i64>,
-//!     observer: &mut DisturbanceObserver,
-//!     (count, v, u): (i64, f32, f32),
-//! ) -> Result<f32, SampleError> {
-//!     let f = axis.update(model, count, v)?; // friction [N]
-//!     let r = observer.update(u, v, f)?; // what the model missed [N]
-//!     Ok(f + r)
-//! }
-//!
-//! let model = Model::<f32>::new(Params { fc: 1.0, fs: 1.5, v_stribeck: 1e-3,
-//!     delta: 1.0, sigma: 0.0, z_max: 1e-5, epsilon: 0.0 })?;
-//! let mut axis = Presliding::<i64>::new(0, 1e-8).unwrap();
-//! let config = ObserverConfig { mass: 2.0, bandwidth: 100.0, period: 1e-3 };
-//! let mut observer = DisturbanceObserver::new(config).unwrap();
-//! assert!(period(&model, &mut axis, &mut observer, (100, 1e-4, 0.5)).is_ok());
-//! let e = period(&model, &mut axis, &mut observer, (100, f32::NAN, 0.5));
-//! assert_eq!(e, Err(SampleError::Velocity));
-//! assert_eq!(e.unwrap_err().to_string(), "velocity sample is not finite");
-//! # Ok::<(), breakaway::ParamError>(())
-//! ```
+//! See [`SampleError`].
 
 use core::fmt;
 
-/// Why a sample was rejected: the signal that is NaN or infinite (or, for
-/// `hal::PwmForce`, the output that failed). A rejected sample leaves the
-/// state unchanged.
+/// Why a sample was rejected: the signal that is NaN or infinite, or (for
+/// `hal::PwmForce`) the driver's failure.
+///
+/// Every `update` of the library ([`Presliding`](crate::Presliding), the
+/// [`compensation`](crate::compensation) blocks) and
+/// `hal::PwmForce::write` (feature `hal`) check their inputs for NaN and ±∞
+/// and return this error, naming the signal at fault; the state (or the
+/// output) is then left as it was, and the next finite sample proceeds
+/// normally. Parameters are checked once, when the blocks are built
+/// ([`ParamError`](crate::ParamError),
+/// [`ConfigError`](crate::compensation::ConfigError)), so nothing else can go
+/// wrong in a control period. One type for the whole loop lets a control
+/// function use `?` on every block:
+///
+/// ```
+/// use breakaway::compensation::{DisturbanceObserver, ObserverConfig};
+/// use breakaway::{Model, Params, Presliding, SampleError};
+///
+/// fn period(
+///     model: &Model<f32>,
+///     axis: &mut Presliding<i64>,
+///     observer: &mut DisturbanceObserver,
+///     (count, v, u): (i64, f32, f32),
+/// ) -> Result<f32, SampleError> {
+///     let f = axis.update(model, count, v)?; // friction [N]
+///     let r = observer.update(u, v, f)?; // what the model missed [N]
+///     Ok(f + r)
+/// }
+///
+/// let model = Model::<f32>::new(Params { fc: 1.0, fs: 1.5, v_stribeck: 1e-3,
+///     delta: 1.0, sigma: 0.0, z_max: 1e-5, epsilon: 0.0 })?;
+/// let mut axis = Presliding::<i64>::new(0, 1e-8).unwrap();
+/// let config = ObserverConfig { mass: 2.0, bandwidth: 100.0, period: 1e-3 };
+/// let mut observer = DisturbanceObserver::new(config).unwrap();
+/// assert!(period(&model, &mut axis, &mut observer, (100, 1e-4, 0.5)).is_ok());
+/// let e = period(&model, &mut axis, &mut observer, (100, f32::NAN, 0.5));
+/// assert_eq!(e, Err(SampleError::Velocity));
+/// assert_eq!(e.unwrap_err().to_string(), "velocity sample is not finite");
+/// # Ok::<(), breakaway::ParamError>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[non_exhaustive]
 pub enum SampleError {

@@ -201,8 +201,8 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
     /// `velocity`; returns the friction force F = H + σ·v (m/s and N for
     /// `f32`; model units for fixed point).
     ///
-    /// A NaN or infinite sample is rejected with an error and leaves the state
-    /// untouched. For finite samples the result is finite and |H| never
+    /// A NaN or infinite sample is rejected with [`SampleError::Velocity`]
+    /// or [`SampleError::Position`] and leaves the state untouched. For finite samples the result is finite and |H| never
     /// exceeds Fs.
     pub fn update(&mut self, model: &Model<T>, position: P, velocity: T) -> Result<T, SampleError> {
         if !velocity.is_finite() {
