@@ -83,19 +83,34 @@ pub fn load(path: &Path) -> Result<Record, Error> {
 /// quoting, rows of any length, lines ended by `\n` or `\r\n`), each with
 /// its line number (1-based, counting every line of the file); blank lines
 /// and lines starting with `#` are skipped. The first row is the header.
-fn rows(text: &str) -> impl Iterator<Item = (u64, csv::StringRecord)> + '_ {
+pub(crate) fn rows(text: &str) -> impl Iterator<Item = (u64, csv::StringRecord)> + '_ {
+    let bytes = text.as_bytes();
+    // The start and line of the previous row.
+    let (mut at, mut line) = (0usize, 1u64);
     csv::ReaderBuilder::new()
         .has_headers(false)
         .flexible(true)
         .quoting(false)
         .terminator(csv::Terminator::Any(b'\n'))
-        .from_reader(text.as_bytes())
+        .from_reader(bytes)
         .into_records()
         // Reading a `&str` cannot fail: no I/O, and fields split at ASCII
         // bytes are UTF-8.
         .map_while(Result::ok)
-        .filter_map(|record| {
-            let line = record.position().map_or(0, csv::Position::line);
+        .filter_map(move |record| {
+            // The line from the row's byte offset: the crate positions a row
+            // before the empty lines it skips, and counts its line there.
+            let mut start = record.position().map_or(at, |p| p.byte() as usize).max(at);
+            while bytes.get(start) == Some(&b'\n') {
+                start += 1;
+            }
+            let newlines = bytes
+                .get(at..start)
+                .unwrap_or(&[])
+                .iter()
+                .filter(|&&b| b == b'\n');
+            line += newlines.count() as u64;
+            at = start;
             let first = record.get(0).map_or("", str::trim);
             let blank = record.len() == 1 && first.is_empty();
             (!blank && !first.starts_with('#')).then_some((line, record))
@@ -103,7 +118,7 @@ fn rows(text: &str) -> impl Iterator<Item = (u64, csv::StringRecord)> + '_ {
 }
 
 /// The fields of a row, trimmed.
-fn trimmed(record: &csv::StringRecord) -> Vec<&str> {
+pub(crate) fn trimmed(record: &csv::StringRecord) -> Vec<&str> {
     record.iter().map(str::trim).collect()
 }
 
@@ -421,6 +436,16 @@ mod tests {
             "f.csv: empty file: no header line (MODEL.md §6 needs columns t, u, x)"
         );
         assert!(error(&csv("t;u;x\n")).starts_with("f.csv: line 1: header lacks column `t`"));
+    }
+
+    /// Every line counts, empty ones included, wherever they stand.
+    #[test]
+    fn line_numbers_count_empty_lines() {
+        let lines = |text: &str| -> Vec<u64> { rows(text).map(|(line, _)| line).collect() };
+        assert_eq!(lines("\n\n\nq\n\n\nr"), [4, 7]);
+        assert_eq!(lines("a\r\n\r\nb\r\n"), [1, 3]);
+        assert_eq!(lines("#a,b\n\nx,y\n"), [3]);
+        assert_eq!(lines("a\n\nx\n  \ny\nz\n"), [1, 3, 5, 6]);
     }
 
     #[test]
