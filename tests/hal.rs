@@ -7,10 +7,17 @@ use breakaway::hal::{DutyMode, PwmForce};
 use breakaway::SampleError;
 use embedded_hal::pwm::{ErrorType, SetDutyCycle};
 
+/// A PWM channel of `max` steps that keeps the last duty written.
 #[derive(Debug)]
 struct Recorder {
     max: u16,
     duty: Option<u16>,
+}
+
+impl Recorder {
+    fn new(max: u16) -> Self {
+        Self { max, duty: None }
+    }
 }
 
 impl ErrorType for Recorder {
@@ -30,10 +37,7 @@ impl SetDutyCycle for Recorder {
 
 #[test]
 fn centered_scale_with_saturation() {
-    let pwm = Recorder {
-        max: 1000,
-        duty: None,
-    };
+    let pwm = Recorder::new(1000);
     let mut out = PwmForce::new(pwm, 2.0, DutyMode::Centered).unwrap();
     for (force, duty, saturated) in [
         (0.0, 500, false),
@@ -56,10 +60,7 @@ fn centered_scale_with_saturation() {
 
 #[test]
 fn magnitude_scale_reports_the_direction() {
-    let pwm = Recorder {
-        max: 255,
-        duty: None,
-    };
+    let pwm = Recorder::new(255);
     let mut out = PwmForce::new(pwm, 3.0, DutyMode::Magnitude).unwrap();
     let a = out.write(-1.5).unwrap();
     assert_eq!(a.duty, 128);
@@ -68,7 +69,7 @@ fn magnitude_scale_reports_the_direction() {
     let a = out.write(4.0).unwrap();
     assert_eq!((a.duty, a.reverse, a.saturated), (255, false, true));
     assert_eq!(
-        PwmForce::new(Recorder { max: 1, duty: None }, 0.0, DutyMode::Magnitude).unwrap_err(),
+        PwmForce::new(Recorder::new(1), 0.0, DutyMode::Magnitude).unwrap_err(),
         ConfigError(Setting::FullScale)
     );
 }
@@ -84,25 +85,9 @@ fn fixed_point_duty_equals_the_f32_duty() {
         length: 1e-5 / 256.0,
     };
     for mode in [DutyMode::Centered, DutyMode::Magnitude] {
-        let mut float = PwmForce::new(
-            Recorder {
-                max: 4095,
-                duty: None,
-            },
-            2.0,
-            mode,
-        )
-        .unwrap();
-        let mut fixed = PwmForce::<_, Q16>::with_units(
-            Recorder {
-                max: 4095,
-                duty: None,
-            },
-            2.0,
-            mode,
-            units,
-        )
-        .unwrap();
+        let mut float = PwmForce::new(Recorder::new(4095), 2.0, mode).unwrap();
+        let mut fixed =
+            PwmForce::<_, Q16>::with_units(Recorder::new(4095), 2.0, mode, units).unwrap();
         for i in -300..=300 {
             let newtons = i as f32 * 0.01;
             let q = Q16::from_f32(newtons / units.force).unwrap();
@@ -124,13 +109,8 @@ fn fixed_point_duty_equals_the_f32_duty() {
         }
     }
     assert_eq!(
-        PwmForce::<_, Q16>::with_units(
-            Recorder { max: 1, duty: None },
-            1e6,
-            DutyMode::Centered,
-            units
-        )
-        .unwrap_err(),
+        PwmForce::<_, Q16>::with_units(Recorder::new(1), 1e6, DutyMode::Centered, units)
+            .unwrap_err(),
         ConfigError(Setting::FullScale)
     );
 }

@@ -324,12 +324,10 @@ fn bad_mat_input() {
 
 #[test]
 fn static_curve_indy7_joint1() {
-    let f = common::shared_data("indy7/joint1_steady_state.csv");
-    if !f.exists() {
-        println!("note: {} not found; skipped", f.display());
+    let Some(f) = common::shared_or_skip("indy7/joint1_steady_state.csv") else {
         return;
-    }
-    let f = f.to_str().unwrap();
+    };
+    let f = f.as_str();
     let j = ok(&["static-curve", f, "--json"]);
     let v: serde_json::Value = serde_json::from_str(&j).unwrap();
     let c = v["curves"].as_array().unwrap();
@@ -345,12 +343,10 @@ fn static_curve_indy7_joint1() {
 /// halves the gap, and the fitted mass is within 2 % of the published one.
 #[test]
 fn emps_real_data() {
-    let f = common::shared_data("emps/DATA_EMPS.mat");
-    if !f.exists() {
-        println!("note: {} not found; skipped", f.display());
+    let Some(f) = common::shared_or_skip("emps/DATA_EMPS.mat") else {
         return;
-    }
-    let f = f.to_str().unwrap();
+    };
+    let f = f.as_str();
     let rep = tmp("emps.json");
     ok(&["diagnose", f, "--json", rep.to_str().unwrap()]);
     let v: serde_json::Value =

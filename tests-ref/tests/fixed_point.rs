@@ -178,14 +178,12 @@ fn construction_rejects_what_does_not_fit_naming_the_parameter() {
 /// starting point, and leaves the model unchanged when it rejects a set.
 #[test]
 fn set_params_in_place_equals_new_and_rejects_without_change() {
+    // Fc = Fs = V = z_max = 1 (δ = 1, σ = ε = 0): the unit Coulomb model.
     let unit = Params {
-        fc: 1.0,
         fs: 1.0,
         v_stribeck: 1.0,
-        delta: 1.0,
-        sigma: 0.0,
         z_max: 1.0,
-        epsilon: 0.0,
+        ..FIG5
     };
     assert_eq!(
         format!("{:?}", Model::<Fx>::UNIT_COULOMB),

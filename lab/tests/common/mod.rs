@@ -22,6 +22,18 @@ pub fn shared_data(rel: &str) -> PathBuf {
         .join(rel)
 }
 
+/// `rel` in the shared data directory as a string, or `None` (after a note)
+/// when it is absent: the test that needs it is then skipped.
+pub fn shared_or_skip(rel: &str) -> Option<String> {
+    let f = shared_data(rel);
+    if f.exists() {
+        Some(f.to_string_lossy().into_owned())
+    } else {
+        println!("note: {} not found; skipped", f.display());
+        None
+    }
+}
+
 /// Runs the binary with `args`.
 pub fn run(args: &[&str]) -> Output {
     Command::new(BIN)
