@@ -17,8 +17,7 @@
 use crate::{cargo, root, run};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::de::DeserializeOwned;
-use serde::Deserialize;
-use serde_json::{json, Value};
+use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -312,15 +311,115 @@ fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
+/// The summary of a sweep (printed, and written by `--json`). Every object
+/// keeps its keys in alphabetical order, as the summary has always been
+/// written.
+#[derive(Debug, Serialize)]
+pub struct Summary {
+    /// Hidden effects at ≥ 20× the noise, and how many of them were named.
+    pub detection_above_20x: Detection,
+    /// Records `diagnose` failed on.
+    pub failed: Vec<Failed>,
+    /// Effect-free records that named an effect.
+    pub false_positives: usize,
+    /// Median gap shrink of the records with hidden effects (null if none).
+    pub median_shrink: f64,
+    /// Records not named exactly with the gap halved.
+    pub misses: Vec<Miss>,
+    /// Records named exactly.
+    pub named_exactly: usize,
+    /// Records named exactly with the gap halved.
+    pub named_exactly_and_gap_halved: usize,
+    /// Records without hidden effects.
+    pub null_records: usize,
+    /// Detection per hidden effect.
+    pub per_effect: Vec<PerEffect>,
+    /// Rates per plant.
+    pub per_plant: Vec<PerPlant>,
+    /// Records scored.
+    pub records: usize,
+}
+
+/// Hidden effects above a visibility, and how many were named.
+#[derive(Debug, Serialize)]
+pub struct Detection {
+    /// Named.
+    pub detected: usize,
+    /// Hidden.
+    pub effects: usize,
+}
+
+/// A record `diagnose` failed on.
+#[derive(Debug, Serialize)]
+pub struct Failed {
+    /// The error message.
+    pub error: String,
+    /// Record name.
+    pub record: String,
+}
+
+/// A record not named exactly with the gap halved.
+#[derive(Debug, Serialize)]
+pub struct Miss {
+    /// Hidden effects.
+    pub hidden: Vec<String>,
+    /// Named effects.
+    pub named: Vec<String>,
+    /// Record name.
+    pub record: String,
+    /// Gap shrink.
+    pub shrink: Option<f64>,
+}
+
+/// Detection of one hidden effect.
+#[derive(Debug, Serialize)]
+pub struct PerEffect {
+    /// Per visibility bin.
+    pub by_visibility: Vec<Bin>,
+    /// Records that named it.
+    pub detected: usize,
+    /// Effect name.
+    pub effect: String,
+    /// Records with it named exactly.
+    pub exact: usize,
+    /// Median gap shrink of the records with it (null if none).
+    pub median_shrink: f64,
+    /// Records with it hidden.
+    pub records: usize,
+}
+
+/// Detection within a visibility bin.
+#[derive(Debug, Serialize)]
+pub struct Bin {
+    /// Records that named the effect.
+    pub detected: usize,
+    /// Records with the effect in the bin.
+    pub records: usize,
+    /// The bin, `lo-hi` (effect RMS / noise std).
+    pub visibility: String,
+}
+
+/// Rates of one plant.
+#[derive(Debug, Serialize)]
+pub struct PerPlant {
+    /// Named exactly.
+    pub exact: usize,
+    /// Effect-free records that named an effect.
+    pub false_positives: usize,
+    /// Effect-free records.
+    pub nulls: usize,
+    /// Plant name.
+    pub plant: String,
+    /// Records.
+    pub records: usize,
+    /// Named exactly with the gap halved.
+    pub success: usize,
+}
+
 /// The summary: overall rates, false positives, per effect detection
 /// against visibility, gap shrink, per plant.
-pub fn summary(scored: &[Scored]) -> Value {
-    let n = scored.len();
-    let exact = scored.iter().filter(|s| s.exact).count();
-    let success = scored.iter().filter(|s| s.success()).count();
+pub fn summary(scored: &[Scored]) -> Summary {
     let nulls: Vec<&Scored> = scored.iter().filter(|s| s.hidden.is_empty()).collect();
-    let fp = nulls.iter().filter(|s| !s.named.is_empty()).count();
-    let shrinks: Vec<f64> = scored.iter().filter_map(|s| s.shrink).collect();
     let bins = [
         (0.0, 10.0),
         (10.0, 20.0),
@@ -330,38 +429,38 @@ pub fn summary(scored: &[Scored]) -> Value {
     let mut effects: Vec<String> = scored.iter().flat_map(|s| s.hidden.clone()).collect();
     effects.sort();
     effects.dedup();
-    let per_effect: Vec<Value> = effects
-        .iter()
+    let per_effect = effects
+        .into_iter()
         .map(|e| {
             let with: Vec<(&Scored, f64)> = scored
                 .iter()
                 .filter_map(|s| {
                     s.visibility
                         .iter()
-                        .find(|(n, _)| n == e)
+                        .find(|(n, _)| *n == e)
                         .map(|(_, v)| (s, *v))
                 })
                 .collect();
-            let by_bin: Vec<Value> = bins
+            let by_visibility = bins
                 .iter()
                 .map(|(lo, hi)| {
                     let inb: Vec<&(&Scored, f64)> =
                         with.iter().filter(|(_, v)| *v >= *lo && *v < *hi).collect();
-                    json!({
-                        "visibility": format!("{lo}-{hi}"),
-                        "records": inb.len(),
-                        "detected": inb.iter().filter(|(s, _)| s.named.contains(e)).count(),
-                    })
+                    Bin {
+                        detected: inb.iter().filter(|(s, _)| s.named.contains(&e)).count(),
+                        records: inb.len(),
+                        visibility: format!("{lo}-{hi}"),
+                    }
                 })
                 .collect();
-            json!({
-                "effect": e,
-                "records": with.len(),
-                "detected": with.iter().filter(|(s, _)| s.named.contains(e)).count(),
-                "exact": with.iter().filter(|(s, _)| s.exact).count(),
-                "median_shrink": median(with.iter().filter_map(|(s, _)| s.shrink).collect()),
-                "by_visibility": by_bin,
-            })
+            PerEffect {
+                by_visibility,
+                detected: with.iter().filter(|(s, _)| s.named.contains(&e)).count(),
+                exact: with.iter().filter(|(s, _)| s.exact).count(),
+                median_shrink: median(with.iter().filter_map(|(s, _)| s.shrink).collect()),
+                records: with.len(),
+                effect: e,
+            }
         })
         .collect();
     let above20: Vec<bool> = scored
@@ -377,38 +476,56 @@ pub fn summary(scored: &[Scored]) -> Value {
     let mut plants: Vec<String> = scored.iter().map(|s| s.plant.clone()).collect();
     plants.sort();
     plants.dedup();
-    let per_plant: Vec<Value> = plants
-        .iter()
-        .map(|p| {
-            let of: Vec<&Scored> = scored.iter().filter(|s| &s.plant == p).collect();
-            json!({
-                "plant": p,
-                "records": of.len(),
-                "exact": of.iter().filter(|s| s.exact).count(),
-                "success": of.iter().filter(|s| s.success()).count(),
-                "false_positives": of.iter().filter(|s| s.hidden.is_empty() && !s.named.is_empty()).count(),
-                "nulls": of.iter().filter(|s| s.hidden.is_empty()).count(),
-            })
+    let per_plant = plants
+        .into_iter()
+        .map(|plant| {
+            let of: Vec<&Scored> = scored.iter().filter(|s| s.plant == plant).collect();
+            PerPlant {
+                exact: of.iter().filter(|s| s.exact).count(),
+                false_positives: of
+                    .iter()
+                    .filter(|s| s.hidden.is_empty() && !s.named.is_empty())
+                    .count(),
+                nulls: of.iter().filter(|s| s.hidden.is_empty()).count(),
+                records: of.len(),
+                success: of.iter().filter(|s| s.success()).count(),
+                plant,
+            }
         })
         .collect();
-    json!({
-        "records": n,
-        "named_exactly": exact,
-        "named_exactly_and_gap_halved": success,
-        "null_records": nulls.len(),
-        "false_positives": fp,
-        "median_shrink": median(shrinks),
-        "detection_above_20x": {
-            "effects": above20.len(),
-            "detected": above20.iter().filter(|d| **d).count(),
+    Summary {
+        detection_above_20x: Detection {
+            detected: above20.iter().filter(|d| **d).count(),
+            effects: above20.len(),
         },
-        "failed": scored.iter().filter(|s| s.failed.is_some()).map(|s| json!({"record": s.name, "error": s.failed})).collect::<Vec<_>>(),
-        "per_effect": per_effect,
-        "per_plant": per_plant,
-        "misses": scored.iter().filter(|s| !s.success()).map(|s| json!({
-            "record": s.name, "hidden": s.hidden, "named": s.named, "shrink": s.shrink,
-        })).collect::<Vec<_>>(),
-    })
+        failed: scored
+            .iter()
+            .filter_map(|s| {
+                s.failed.as_ref().map(|error| Failed {
+                    error: error.clone(),
+                    record: s.name.clone(),
+                })
+            })
+            .collect(),
+        false_positives: nulls.iter().filter(|s| !s.named.is_empty()).count(),
+        median_shrink: median(scored.iter().filter_map(|s| s.shrink).collect()),
+        misses: scored
+            .iter()
+            .filter(|s| !s.success())
+            .map(|s| Miss {
+                hidden: s.hidden.clone(),
+                named: s.named.clone(),
+                record: s.name.clone(),
+                shrink: s.shrink,
+            })
+            .collect(),
+        named_exactly: scored.iter().filter(|s| s.exact).count(),
+        named_exactly_and_gap_halved: scored.iter().filter(|s| s.success()).count(),
+        null_records: nulls.len(),
+        per_effect,
+        per_plant,
+        records: scored.len(),
+    }
 }
 
 /// `cargo xtask sweep`.
@@ -430,10 +547,10 @@ pub const SMOKE_SEEDS: (u64, u64) = (7000, 7012);
 /// Least records of the subset named exactly (5 of 12 when fixed, 4 after
 /// the `Prepared::walk` mend, 6 with stops and the floor-relative gain;
 /// one record of margin).
-pub const SMOKE_MIN_EXACT: u64 = 5;
+pub const SMOKE_MIN_EXACT: usize = 5;
 /// Most false positives on the subset's 3 effect-free records (1 when
 /// fixed and still: `frictional_lag` on an open-loop ramp record).
-pub const SMOKE_MAX_FALSE_POSITIVES: u64 = 1;
+pub const SMOKE_MAX_FALSE_POSITIVES: usize = 1;
 
 /// The subset of `cargo xtask test`: every record diagnosed without an
 /// error, and no regression below the figures measured when the subset
@@ -453,12 +570,12 @@ pub fn smoke() -> Result<(), String> {
         "sweep subset (seeds {}..{}, independent generator): {} records, {} named exactly, {} with the gap halved, {} false positives on {} effect-free records, median shrink {:.2}",
         o.from,
         o.to,
-        s["records"],
-        s["named_exactly"],
-        s["named_exactly_and_gap_halved"],
-        s["false_positives"],
-        s["null_records"],
-        s["median_shrink"].as_f64().unwrap_or(f64::NAN)
+        s.records,
+        s.named_exactly,
+        s.named_exactly_and_gap_halved,
+        s.false_positives,
+        s.null_records,
+        s.median_shrink
     );
     if scored.is_empty() {
         return Err("sweep subset: no record was generated".into());
@@ -475,12 +592,11 @@ pub fn smoke() -> Result<(), String> {
     // effect-free records when the subset was fixed (4 of 12 after the
     // `Prepared::walk` mend, 6 of 12 with stops and the floor-relative
     // gain).
-    let exact = s["named_exactly"].as_u64().unwrap_or(0);
-    let fp = s["false_positives"].as_u64().unwrap_or(u64::MAX);
+    let (exact, fp) = (s.named_exactly, s.false_positives);
     if exact < SMOKE_MIN_EXACT || fp > SMOKE_MAX_FALSE_POSITIVES {
         return Err(format!(
             "sweep subset regressed: {exact} named exactly (at least {SMOKE_MIN_EXACT}), {fp} false positives (at most {SMOKE_MAX_FALSE_POSITIVES}); misses: {}",
-            s["misses"]
+            serde_json::to_string(&s.misses).unwrap_or_default()
         ));
     }
     Ok(())
@@ -489,6 +605,179 @@ pub fn smoke() -> Result<(), String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn scored(
+        name: &str,
+        plant: &str,
+        hidden: &[(&str, f64)],
+        named: &[&str],
+        shrink: Option<f64>,
+    ) -> Scored {
+        let hidden_names: Vec<String> = hidden.iter().map(|(h, _)| h.to_string()).collect();
+        let named: Vec<String> = named.iter().map(|n| n.to_string()).collect();
+        Scored {
+            name: name.into(),
+            plant: plant.into(),
+            exact: hidden_names.iter().all(|h| named.contains(h))
+                && named.iter().all(|n| hidden_names.contains(n)),
+            hidden: hidden_names,
+            named,
+            visibility: hidden.iter().map(|(h, v)| (h.to_string(), *v)).collect(),
+            shrink,
+            failed: None,
+        }
+    }
+
+    /// Four records: the summary's text, key for key (a regression pin of
+    /// the JSON users read).
+    #[test]
+    fn summary_json_text() {
+        let mut failed = scored("s4", "lugre", &[("drift", 30.0)], &[], None);
+        failed.failed = Some("diagnose failed".into());
+        let records = [
+            scored("s1", "model", &[("offset", 25.0)], &["offset"], Some(0.75)),
+            scored("s2", "model", &[], &["viscous"], None),
+            scored(
+                "s3",
+                "lugre",
+                &[("offset", 5.0), ("drift", 12.0)],
+                &["offset"],
+                Some(0.2),
+            ),
+            failed,
+        ];
+        let text = serde_json::to_string_pretty(&summary(&records)).unwrap();
+        assert_eq!(text, EXPECTED_SUMMARY);
+        // No shrink at all: the median is null, as before.
+        let empty = serde_json::to_string(&summary(&[])).unwrap();
+        assert!(empty.contains(r#""median_shrink":null"#), "{empty}");
+    }
+
+    const EXPECTED_SUMMARY: &str = r#"{
+  "detection_above_20x": {
+    "detected": 1,
+    "effects": 2
+  },
+  "failed": [
+    {
+      "error": "diagnose failed",
+      "record": "s4"
+    }
+  ],
+  "false_positives": 1,
+  "median_shrink": 0.75,
+  "misses": [
+    {
+      "hidden": [],
+      "named": [
+        "viscous"
+      ],
+      "record": "s2",
+      "shrink": null
+    },
+    {
+      "hidden": [
+        "offset",
+        "drift"
+      ],
+      "named": [
+        "offset"
+      ],
+      "record": "s3",
+      "shrink": 0.2
+    },
+    {
+      "hidden": [
+        "drift"
+      ],
+      "named": [],
+      "record": "s4",
+      "shrink": null
+    }
+  ],
+  "named_exactly": 1,
+  "named_exactly_and_gap_halved": 1,
+  "null_records": 1,
+  "per_effect": [
+    {
+      "by_visibility": [
+        {
+          "detected": 0,
+          "records": 0,
+          "visibility": "0-10"
+        },
+        {
+          "detected": 0,
+          "records": 1,
+          "visibility": "10-20"
+        },
+        {
+          "detected": 0,
+          "records": 1,
+          "visibility": "20-50"
+        },
+        {
+          "detected": 0,
+          "records": 0,
+          "visibility": "50-inf"
+        }
+      ],
+      "detected": 0,
+      "effect": "drift",
+      "exact": 0,
+      "median_shrink": 0.2,
+      "records": 2
+    },
+    {
+      "by_visibility": [
+        {
+          "detected": 1,
+          "records": 1,
+          "visibility": "0-10"
+        },
+        {
+          "detected": 0,
+          "records": 0,
+          "visibility": "10-20"
+        },
+        {
+          "detected": 1,
+          "records": 1,
+          "visibility": "20-50"
+        },
+        {
+          "detected": 0,
+          "records": 0,
+          "visibility": "50-inf"
+        }
+      ],
+      "detected": 2,
+      "effect": "offset",
+      "exact": 1,
+      "median_shrink": 0.75,
+      "records": 2
+    }
+  ],
+  "per_plant": [
+    {
+      "exact": 0,
+      "false_positives": 0,
+      "nulls": 0,
+      "plant": "lugre",
+      "records": 2,
+      "success": 0
+    },
+    {
+      "exact": 1,
+      "false_positives": 1,
+      "nulls": 1,
+      "plant": "model",
+      "records": 2,
+      "success": 1
+    }
+  ],
+  "records": 4
+}"#;
 
     #[test]
     fn scores_a_truth_file_against_a_report() {
