@@ -22,6 +22,8 @@ use cortex_m_semihosting::{debug, hio};
 
 #[path = "common/compensation_loop.rs"]
 mod compensation_loop;
+#[path = "../tests/support/mod.rs"]
+mod support;
 
 const PATTERN: u32 = 0xA5C3_5A3C;
 

@@ -14,39 +14,16 @@
 #[path = "common/mod.rs"]
 mod common;
 
-use breakaway::{Model, Params, Presliding};
+use breakaway::{Model, Presliding};
 use cortex_m_rt::entry;
 use cortex_m_semihosting::hprintln;
 
 const SAMPLES: u32 = 1_000_000;
 const COUNT: f32 = 1e-8;
 
-/// The same parameters as the host's hardening test.
-const PARAMS: Params = Params {
-    fc: 1.0,
-    fs: 1.5,
-    v_stribeck: 1e-3,
-    delta: 1.3,
-    sigma: 0.2,
-    z_max: 1e-5,
-    epsilon: 0.0,
-};
-
-/// xorshift64* (the host replays it in xtask/src/checks.rs).
-struct Rng(u64);
-
-impl Rng {
-    fn below(&mut self, n: u64) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) % n
-    }
-}
-
 #[entry]
 fn main() -> ! {
-    let Ok(model) = Model::<f32>::new(PARAMS) else {
+    let Ok(model) = Model::<f32>::new(common::LONG_RUN) else {
         common::exit_failure("invalid parameters");
     };
     let (Ok(mut single), Ok(mut closing)) = (
@@ -55,20 +32,9 @@ fn main() -> ! {
     ) else {
         common::exit_failure("invalid scale");
     };
-    let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
-    let (mut x, mut target, mut step, mut v) = (0i64, 0i64, 1i64, 0.0f32);
     let mut max_h = 0.0f32;
-    for n in 0..SAMPLES {
-        if x == target {
-            let len = 1 + rng.below(3000) as i64;
-            target = if rng.below(2) == 0 { x + len } else { x - len };
-            step = 1 + rng.below(64) as i64;
-            v = (target - x).signum() as f32 * step as f32 * COUNT / 1e-3;
-        } else if target > x {
-            x = (x + step).min(target);
-        } else {
-            x = (x - step).max(target);
-        }
+    // The motion of the host's hardening test, replayed by `cargo xtask`.
+    for (n, (x, v)) in (0..SAMPLES).zip(common::Strokes::new(COUNT)) {
         let (Ok(f), Ok(g)) = (single.update(&model, x, v), closing.update(&model, x, v)) else {
             common::exit_failure("sample rejected");
         };

@@ -21,9 +21,10 @@
 // wrap.
 #![allow(clippy::arithmetic_side_effects)]
 
-use embedded_hal::pwm::SetDutyCycle;
+use embedded_hal::pwm::{Error as _, SetDutyCycle};
 
 use crate::compensation::{positive, ConfigError, Setting};
+use crate::error::SampleError;
 use crate::fixed_point::Q16;
 use crate::scalar::{Scalar, Units};
 
@@ -98,28 +99,6 @@ pub struct Applied<T = f32> {
     pub reverse: bool,
 }
 
-/// Why a force was not written.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[non_exhaustive]
-pub enum WriteError<E> {
-    /// The force is NaN or infinite; the output was left unchanged.
-    NonFiniteForce,
-    /// The PWM driver failed.
-    Pwm(E),
-}
-
-impl<E: core::fmt::Debug> core::fmt::Display for WriteError<E> {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        match self {
-            WriteError::NonFiniteForce => f.write_str("force is not finite; output unchanged"),
-            WriteError::Pwm(e) => write!(f, "PWM driver error: {e:?}"),
-        }
-    }
-}
-
-impl<E: core::fmt::Debug> core::error::Error for WriteError<E> {}
-
 /// A PWM channel driven as a force output, in the number type `T` (`f32`
 /// in N, or [`Q16`] in units of Fs).
 #[derive(Debug)]
@@ -159,9 +138,14 @@ impl<P: SetDutyCycle, T: Duty> PwmForce<P, T> {
     }
 
     /// Writes the force `force` [N] (model units).
-    pub fn write(&mut self, force: T) -> Result<Applied<T>, WriteError<P::Error>> {
+    ///
+    /// A non-finite force is rejected with [`SampleError::Force`] and leaves
+    /// the output unchanged; a driver error comes back as
+    /// [`SampleError::Pwm`] with the kind of
+    /// the driver's error ([`embedded_hal::pwm::Error::kind`]).
+    pub fn write(&mut self, force: T) -> Result<Applied<T>, SampleError> {
         if !force.is_finite() {
-            return Err(WriteError::NonFiniteForce);
+            return Err(SampleError::Force);
         }
         let steps = self.pwm.max_duty_cycle();
         let one = T::ONE;
@@ -186,7 +170,9 @@ impl<P: SetDutyCycle, T: Duty> PwmForce<P, T> {
             DutyMode::Magnitude if force < T::ZERO => -(written * self.full_scale),
             DutyMode::Magnitude => written * self.full_scale,
         };
-        self.pwm.set_duty_cycle(duty).map_err(WriteError::Pwm)?;
+        self.pwm
+            .set_duty_cycle(duty)
+            .map_err(|e| SampleError::Pwm(e.kind()))?;
         Ok(Applied {
             duty,
             force: represented,

@@ -26,6 +26,7 @@ pub mod curves;
 #[cfg(all(feature = "cortex-m", not(breakaway_armv6m)))]
 #[cfg_attr(docsrs, doc(cfg(feature = "cortex-m")))]
 pub mod cycles;
+mod error;
 pub mod fastmath;
 pub mod fixed_point;
 #[cfg(feature = "hal")]
@@ -40,6 +41,7 @@ pub mod presliding;
 pub mod scalar;
 
 pub use crate::curves::{shape_f32, CurvesF32};
+pub use crate::error::SampleError;
 pub use crate::fixed_point::{CountScale, TableCurves, Q16};
 pub use crate::model::Model;
 pub use crate::params::{Param, ParamError, Params};
@@ -47,5 +49,5 @@ pub use crate::position::Position;
 pub use crate::predictor::{
     BreakAway, BreakAwayPredictor, PredictError, Variant, DEFAULT_BOUNDARY,
 };
-pub use crate::presliding::{Presliding, SampleError, ScaleError, TurningPoint};
+pub use crate::presliding::{Presliding, ScaleError, TurningPoint};
 pub use crate::scalar::{Curves, Scalar, Units};

@@ -90,6 +90,7 @@
 
 use heapless::Vec;
 
+pub(crate) use crate::error::SampleError;
 use crate::model::Model;
 use crate::position::Position;
 use crate::scalar::{Curves, Scalar};
@@ -103,28 +104,6 @@ pub struct TurningPoint<T, P> {
     /// Dry friction H at the reversal [N] (without σ·v).
     pub dry: T,
 }
-
-/// Why a sample was rejected. A rejected sample leaves the state unchanged.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[non_exhaustive]
-pub enum SampleError {
-    /// The velocity estimate is NaN or infinite.
-    NonFiniteVelocity,
-    /// The position sample is NaN or infinite.
-    NonFinitePosition,
-}
-
-impl core::fmt::Display for SampleError {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        f.write_str(match self {
-            SampleError::NonFiniteVelocity => "velocity sample is not finite",
-            SampleError::NonFinitePosition => "position sample is not finite",
-        })
-    }
-}
-
-impl core::error::Error for SampleError {}
 
 /// The scale from position units to metres is not finite and positive.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -222,15 +201,15 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
     /// `velocity`; returns the friction force F = H + σ·v (m/s and N for
     /// `f32`; model units for fixed point).
     ///
-    /// A NaN or infinite sample is rejected with an error and leaves the state
-    /// untouched. For finite samples the result is finite and |H| never
+    /// A NaN or infinite sample is rejected with [`SampleError::Velocity`]
+    /// or [`SampleError::Position`] and leaves the state untouched. For finite samples the result is finite and |H| never
     /// exceeds Fs.
     pub fn update(&mut self, model: &Model<T>, position: P, velocity: T) -> Result<T, SampleError> {
         if !velocity.is_finite() {
-            return Err(SampleError::NonFiniteVelocity);
+            return Err(SampleError::Velocity);
         }
         if !position.is_valid() {
-            return Err(SampleError::NonFinitePosition);
+            return Err(SampleError::Position);
         }
         let viscous = model.sigma * velocity;
         if self.direction == 0 {

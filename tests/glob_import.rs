@@ -4,18 +4,11 @@
 
 use breakaway::*;
 
+mod support;
+
 #[test]
 fn glob_import_brings_the_main_types() {
-    let model = Model::<f32>::new(Params {
-        fc: 1.0,
-        fs: 1.5,
-        v_stribeck: 1e-3,
-        delta: 1.0,
-        sigma: 0.0,
-        z_max: 1e-5,
-        epsilon: 0.0,
-    })
-    .unwrap();
+    let model = Model::<f32>::new(support::FIG5).unwrap();
     let mut axis = Presliding::<i64>::new(0, 1e-8).unwrap();
     let force = axis.update(&model, 200, 1e-4).unwrap();
     assert!(force > 0.0 && force < 1.5);

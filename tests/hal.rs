@@ -3,13 +3,21 @@
 #![cfg(feature = "hal")]
 
 use breakaway::compensation::{ConfigError, Setting};
-use breakaway::hal::{DutyMode, PwmForce, WriteError};
+use breakaway::hal::{DutyMode, PwmForce};
+use breakaway::SampleError;
 use embedded_hal::pwm::{ErrorType, SetDutyCycle};
 
+/// A PWM channel of `max` steps that keeps the last duty written.
 #[derive(Debug)]
 struct Recorder {
     max: u16,
     duty: Option<u16>,
+}
+
+impl Recorder {
+    fn new(max: u16) -> Self {
+        Self { max, duty: None }
+    }
 }
 
 impl ErrorType for Recorder {
@@ -29,10 +37,7 @@ impl SetDutyCycle for Recorder {
 
 #[test]
 fn centered_scale_with_saturation() {
-    let pwm = Recorder {
-        max: 1000,
-        duty: None,
-    };
+    let pwm = Recorder::new(1000);
     let mut out = PwmForce::new(pwm, 2.0, DutyMode::Centered).unwrap();
     for (force, duty, saturated) in [
         (0.0, 500, false),
@@ -49,16 +54,13 @@ fn centered_scale_with_saturation() {
         assert!((a.force - (duty as f32 / 500.0 - 1.0) * 2.0).abs() < 1e-6);
     }
     // A non-finite force leaves the output as it was.
-    assert_eq!(out.write(f32::NAN), Err(WriteError::NonFiniteForce));
+    assert_eq!(out.write(f32::NAN), Err(SampleError::Force));
     assert_eq!(out.inner().duty, Some(501));
 }
 
 #[test]
 fn magnitude_scale_reports_the_direction() {
-    let pwm = Recorder {
-        max: 255,
-        duty: None,
-    };
+    let pwm = Recorder::new(255);
     let mut out = PwmForce::new(pwm, 3.0, DutyMode::Magnitude).unwrap();
     let a = out.write(-1.5).unwrap();
     assert_eq!(a.duty, 128);
@@ -67,7 +69,7 @@ fn magnitude_scale_reports_the_direction() {
     let a = out.write(4.0).unwrap();
     assert_eq!((a.duty, a.reverse, a.saturated), (255, false, true));
     assert_eq!(
-        PwmForce::new(Recorder { max: 1, duty: None }, 0.0, DutyMode::Magnitude).unwrap_err(),
+        PwmForce::new(Recorder::new(1), 0.0, DutyMode::Magnitude).unwrap_err(),
         ConfigError(Setting::FullScale)
     );
 }
@@ -83,25 +85,9 @@ fn fixed_point_duty_equals_the_f32_duty() {
         length: 1e-5 / 256.0,
     };
     for mode in [DutyMode::Centered, DutyMode::Magnitude] {
-        let mut float = PwmForce::new(
-            Recorder {
-                max: 4095,
-                duty: None,
-            },
-            2.0,
-            mode,
-        )
-        .unwrap();
-        let mut fixed = PwmForce::<_, Q16>::with_units(
-            Recorder {
-                max: 4095,
-                duty: None,
-            },
-            2.0,
-            mode,
-            units,
-        )
-        .unwrap();
+        let mut float = PwmForce::new(Recorder::new(4095), 2.0, mode).unwrap();
+        let mut fixed =
+            PwmForce::<_, Q16>::with_units(Recorder::new(4095), 2.0, mode, units).unwrap();
         for i in -300..=300 {
             let newtons = i as f32 * 0.01;
             let q = Q16::from_f32(newtons / units.force).unwrap();
@@ -123,13 +109,41 @@ fn fixed_point_duty_equals_the_f32_duty() {
         }
     }
     assert_eq!(
-        PwmForce::<_, Q16>::with_units(
-            Recorder { max: 1, duty: None },
-            1e6,
-            DutyMode::Centered,
-            units
-        )
-        .unwrap_err(),
+        PwmForce::<_, Q16>::with_units(Recorder::new(1), 1e6, DutyMode::Centered, units)
+            .unwrap_err(),
         ConfigError(Setting::FullScale)
     );
+}
+
+/// A driver error comes back as the crate's one per-sample error, with the
+/// driver's `ErrorKind`.
+#[test]
+fn driver_error_is_a_sample_error() {
+    use embedded_hal::pwm::{Error, ErrorKind};
+
+    #[derive(Debug)]
+    struct Broken;
+    impl Error for Broken {
+        fn kind(&self) -> ErrorKind {
+            ErrorKind::Other
+        }
+    }
+    struct Failing;
+    impl ErrorType for Failing {
+        type Error = Broken;
+    }
+    impl SetDutyCycle for Failing {
+        fn max_duty_cycle(&self) -> u16 {
+            100
+        }
+        fn set_duty_cycle(&mut self, _: u16) -> Result<(), Self::Error> {
+            Err(Broken)
+        }
+    }
+
+    let mut out = PwmForce::new(Failing, 1.0, DutyMode::Centered).unwrap();
+    let e = out.write(0.5).unwrap_err();
+    assert_eq!(e, SampleError::Pwm(ErrorKind::Other));
+    assert!(e.to_string().starts_with("PWM driver error: "), "{e}");
+    assert_eq!(out.write(f32::INFINITY), Err(SampleError::Force));
 }

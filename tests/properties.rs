@@ -8,19 +8,8 @@ use breakaway::{
     SampleError, Variant,
 };
 
-/// The paper's Fig. 5 setting: Fc = 1 N, Fs = 1.5 N, σ = 0, z_max = 10 µm,
-/// with V = 1 mm/s and δ = 1.
-fn paper() -> Params {
-    Params {
-        fc: 1.0,
-        fs: 1.5,
-        v_stribeck: 1e-3,
-        delta: 1.0,
-        sigma: 0.0,
-        z_max: 1e-5,
-        epsilon: 0.0,
-    }
-}
+mod support;
+use support::FIG5;
 
 fn model(p: Params) -> Model<f32> {
     Model::new(p).expect("valid parameters")
@@ -63,7 +52,7 @@ fn every_invalid_parameter_has_its_own_error() {
         ),
     ];
     for (break_it, expected) in cases {
-        let mut p = paper();
+        let mut p = FIG5;
         break_it(&mut p);
         let err = Model::<f32>::new(p).expect_err("must be rejected");
         assert_eq!(err, expected);
@@ -72,20 +61,20 @@ fn every_invalid_parameter_has_its_own_error() {
         assert!(text.contains(err.param().key()), "{text}");
     }
     // Valid by the model, not representable: 1/V and 1/z_max overflow f32.
-    let mut p = paper();
+    let mut p = FIG5;
     p.v_stribeck = 1e-40;
     assert_eq!(
         Model::<f32>::new(p).unwrap_err(),
         ParamError::OutOfRange(Param::VStribeck)
     );
-    let mut p = paper();
+    let mut p = FIG5;
     p.z_max = 1e-40;
     assert_eq!(
         Model::<f32>::new(p).unwrap_err(),
         ParamError::OutOfRange(Param::ZMax)
     );
     // Boundary values that the contract allows.
-    let mut p = paper();
+    let mut p = FIG5;
     p.fs = p.fc;
     p.sigma = 0.0;
     p.epsilon = 0.0;
@@ -131,7 +120,7 @@ fn shape_ends_and_monotone() {
 
 #[test]
 fn stribeck_ends() {
-    let m = model(paper());
+    let m = model(FIG5);
     assert_eq!(m.stribeck(0.0), 1.5);
     assert!((m.stribeck(1e-3) - (1.0 + 0.5 * (-1.0f32).exp())).abs() < 1e-6);
     assert_eq!(m.stribeck(-1.0), 1.0);
@@ -139,7 +128,7 @@ fn stribeck_ends() {
     assert_eq!(m.steady_state(0.0), 0.0);
     assert_eq!(m.steady_state(-1.0), -1.0);
     for delta in [0.5, 1.0, 2.0, 1.3] {
-        let m = model(Params { delta, ..paper() });
+        let m = model(Params { delta, ..FIG5 });
         let s = m.stribeck(2e-3);
         let expected = 1.0 + 0.5 * (-(2.0f64).powf(delta as f64)).exp();
         assert!(
@@ -151,7 +140,7 @@ fn stribeck_ends() {
 
 #[test]
 fn idle_first_motion_and_reversal() {
-    let m = model(paper());
+    let m = model(FIG5);
     let mut axis = Presliding::at(0.0);
     assert_eq!(axis.update(&m, 0.0, 0.0), Ok(0.0));
     assert_eq!(axis.direction(), 0);
@@ -177,7 +166,7 @@ fn idle_first_motion_and_reversal() {
 fn deadband_holds_then_confirms() {
     let m = model(Params {
         epsilon: 1e-6,
-        ..paper()
+        ..FIG5
     });
     let mut axis = Presliding::<i64>::new(0, 1e-8).unwrap(); // 10 nm counts
     let held = axis.update(&m, 500, 0.0).unwrap(); // 5 µm
@@ -197,28 +186,19 @@ fn deadband_holds_then_confirms() {
 
 #[test]
 fn rejected_samples_leave_the_state_unchanged() {
-    let m = model(Params {
-        sigma: 2.0,
-        ..paper()
-    });
+    let m = model(Params { sigma: 2.0, ..FIG5 });
     let mut axis = Presliding::at(0.0);
     axis.update(&m, 3e-6, 1e-4).unwrap();
     let before = axis.clone();
-    assert_eq!(
-        axis.update(&m, f32::NAN, 0.0),
-        Err(SampleError::NonFinitePosition)
-    );
+    assert_eq!(axis.update(&m, f32::NAN, 0.0), Err(SampleError::Position));
     assert_eq!(
         axis.update(&m, f32::INFINITY, 0.0),
-        Err(SampleError::NonFinitePosition)
+        Err(SampleError::Position)
     );
-    assert_eq!(
-        axis.update(&m, 1e-6, f32::NAN),
-        Err(SampleError::NonFiniteVelocity)
-    );
+    assert_eq!(axis.update(&m, 1e-6, f32::NAN), Err(SampleError::Velocity));
     assert_eq!(
         axis.update(&m, 1e-6, f32::NEG_INFINITY),
-        Err(SampleError::NonFiniteVelocity)
+        Err(SampleError::Velocity)
     );
     assert_eq!(axis, before);
     // Extreme finite input gives finite output.
@@ -252,7 +232,7 @@ fn h_at(trace: &[(i64, f32)], index: usize) -> f32 {
 
 #[test]
 fn h_continuous_across_turning_points() {
-    let m = model(paper());
+    let m = model(FIG5);
     // 1 nm steps against z_max = 10 µm: g(1e-4) = 1.0e-3, so no step of H
     // may exceed 2·Fs·g(1e-4) = 3.1e-3 N, at reversals included.
     let trace = drive::<0>(&m, &[6000, 2000, 9000, -12000, 0]);
@@ -268,7 +248,7 @@ fn h_continuous_across_turning_points() {
 
 #[test]
 fn minor_loops_close_with_memory_and_not_without() {
-    let m = model(paper());
+    let m = model(FIG5);
     // Virgin to 6 µm, back to 2 µm, forward to 8 µm: the minor loop 6→2→6
     // closes at 6 µm with memory, and the branch to 8 µm is the virgin one.
     let path = [6000, 2000, 8000];
@@ -307,7 +287,7 @@ fn minor_loops_close_with_memory_and_not_without() {
 
 #[test]
 fn memory_overflow_forgets_the_oldest_loop_only() {
-    let m = model(paper());
+    let m = model(FIG5);
     // Three nested loops: 9→1→8→2→7→3 µm, then out to 9.5 µm.
     let path = [9000, 1000, 8000, 2000, 7000, 3000, 9500];
     let deep = drive::<8>(&m, &path);
@@ -347,7 +327,7 @@ fn memory_overflow_forgets_the_oldest_loop_only() {
 
 #[test]
 fn break_away_falls_from_stiction_to_coulomb() {
-    let m = model(paper());
+    let m = model(FIG5);
     let predictor = BreakAwayPredictor::new(&m, 0.95).unwrap();
     for variant in Variant::ALL {
         let mut last = f32::INFINITY;
@@ -381,7 +361,7 @@ fn break_away_falls_from_stiction_to_coulomb() {
 
 #[test]
 fn predictor_rejects_bad_arguments() {
-    let m = model(paper());
+    let m = model(FIG5);
     for w_b in [0.0, 1.0, -0.5, f32::NAN] {
         assert_eq!(
             BreakAwayPredictor::new(&m, w_b).unwrap_err(),
@@ -403,7 +383,7 @@ fn predictor_rejects_bad_arguments() {
 
 #[test]
 fn phase_curve_matches_paper_eq_12() {
-    let m = model(paper());
+    let m = model(FIG5);
     let ln = |w: f64| w.ln();
     for w in [0.1, 0.5, 0.9, 0.99] {
         let v = BreakAwayPredictor::phase_velocity(&m, Variant::Stiction, 2.0, w).unwrap();

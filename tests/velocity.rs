@@ -5,10 +5,11 @@
 //! constant speed through a quantising encoder, a wrapping 32-bit counter,
 //! Q16 against `f32`, and rejected settings and samples.
 
-use breakaway::compensation::{
-    ConfigError, Setting, SignalError, VelocityConfig, VelocityEstimator,
-};
-use breakaway::{Model, Params, Scalar, Q16};
+use breakaway::compensation::{ConfigError, Setting, VelocityConfig, VelocityEstimator};
+use breakaway::{Model, SampleError, Scalar, Q16};
+
+mod support;
+use support::FIG5;
 
 const PERIOD: f32 = 1e-3;
 
@@ -106,16 +107,7 @@ fn no_lag_at_constant_speed_through_an_encoder_and_a_wrapping_counter() {
 
 #[test]
 fn q16_estimator_matches_the_f32_estimator() {
-    let model = Model::<Q16>::new(Params {
-        fc: 1.0,
-        fs: 1.5,
-        v_stribeck: 1e-3,
-        delta: 1.0,
-        sigma: 0.0,
-        z_max: 1e-5,
-        epsilon: 0.0,
-    })
-    .unwrap();
+    let model = Model::<Q16>::new(FIG5).unwrap();
     let units = model.units();
     let scale = model.position_scale::<i32>(1e-6).unwrap();
     let mut fixed =
@@ -169,7 +161,7 @@ fn rejects_bad_settings_and_samples() {
     }
     let before = estimator.clone();
     for x in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
-        assert_eq!(estimator.update(x), Err(SignalError::Position));
+        assert_eq!(estimator.update(x), Err(SampleError::Position));
     }
     assert_eq!(estimator, before);
     // A jump to the far end of f32 keeps the state finite.

@@ -10,15 +10,9 @@ use breakaway::hal::{DutyMode, PwmForce};
 use breakaway::{Model, Params, Scalar, Q16};
 use embedded_hal::pwm::{ErrorType, SetDutyCycle};
 
-const PARAMS: Params = Params {
-    fc: 1.0,
-    fs: 1.5,
-    v_stribeck: 1e-3,
-    delta: 1.0,
-    sigma: 0.0,
-    z_max: 1e-5,
-    epsilon: 0.0,
-};
+// The Fig. 5 setting of the tests; every includer also includes
+// `tests/support` as its sibling module `support`.
+const PARAMS: Params = super::support::FIG5;
 /// Metres per count and control period [s].
 const COUNT: f32 = 1e-8;
 const PERIOD: f32 = 1e-3;

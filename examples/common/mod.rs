@@ -7,17 +7,12 @@ use cortex_m as _;
 use cortex_m_rt::{exception, ExceptionFrame};
 use cortex_m_semihosting::{debug, hprintln};
 
-/// The paper's Fig. 5 setting (MODEL.md §4, `lab/models/fig5.toml`).
-#[allow(dead_code)]
-pub const FIG5: breakaway::Params = breakaway::Params {
-    fc: 1.0,
-    fs: 1.5,
-    v_stribeck: 1e-3,
-    delta: 1.0,
-    sigma: 0.0,
-    z_max: 1e-5,
-    epsilon: 0.0,
-};
+// The parameter sets and the stroke motion of the tests (`tests/support`),
+// so that the firmware runs what the host checks.
+#[path = "../../tests/support/mod.rs"]
+mod support;
+#[allow(unused_imports)]
+pub use support::{Strokes, FIG5, LONG_RUN};
 
 /// Position in encoder counts at sample `n` (1 ms period) of the reversal
 /// trajectory of `presliding_loop` and `fixed_point`: a 1.6·z_max stroke

@@ -11,19 +11,11 @@ use crate::reference::{self, Model, Variant};
 use crate::Error;
 use std::path::Path;
 
-/// Loads and checks a model file (MODEL.md §7). The break-away analysis needs
+/// Loads and checks a model file (MODEL.md §7) as the workflow does
+/// ([`crate::workflow::load_model`]). The break-away analysis needs
 /// presliding, so `z_max = 0` (allowed in files) is refused here.
 pub fn load_model(path: &Path) -> Result<Model, Error> {
-    let model = Model::load(path).map_err(|e| {
-        let msg = e.to_string();
-        // Name the file even if the reference's message does not.
-        let shown = path.display().to_string();
-        if msg.contains(&shown) {
-            Error::Runtime(msg)
-        } else {
-            Error::Runtime(format!("model file {shown}: {msg}"))
-        }
-    })?;
+    let model = crate::workflow::load_model(path)?;
     if model.z_max.is_nan() || model.z_max <= 0.0 {
         return Err(Error::Runtime(format!(
             "model file {}: key `z_max`: break-away needs presliding, z_max > 0 (MODEL.md §4), got {}",

@@ -79,20 +79,59 @@ pub fn load(path: &Path) -> Result<Record, Error> {
     Ok(rec)
 }
 
+/// The rows of comma-separated text as the `csv` crate splits them (no
+/// quoting, rows of any length, lines ended by `\n` or `\r\n`), each with
+/// its line number (1-based, counting every line of the file); blank lines
+/// and lines starting with `#` are skipped. The first row is the header.
+pub(crate) fn rows(text: &str) -> impl Iterator<Item = (u64, csv::StringRecord)> + '_ {
+    let bytes = text.as_bytes();
+    // The start and line of the previous row.
+    let (mut at, mut line) = (0usize, 1u64);
+    csv::ReaderBuilder::new()
+        .has_headers(false)
+        .flexible(true)
+        .quoting(false)
+        .terminator(csv::Terminator::Any(b'\n'))
+        .from_reader(bytes)
+        .into_records()
+        // Reading a `&str` cannot fail: no I/O, and fields split at ASCII
+        // bytes are UTF-8.
+        .map_while(Result::ok)
+        .filter_map(move |record| {
+            // The line from the row's byte offset: the crate positions a row
+            // before the empty lines it skips, and counts its line there.
+            let mut start = record.position().map_or(at, |p| p.byte() as usize).max(at);
+            while bytes.get(start) == Some(&b'\n') {
+                start += 1;
+            }
+            let newlines = bytes
+                .get(at..start)
+                .unwrap_or(&[])
+                .iter()
+                .filter(|&&b| b == b'\n');
+            line += newlines.count() as u64;
+            at = start;
+            let first = record.get(0).map_or("", str::trim);
+            let blank = record.len() == 1 && first.is_empty();
+            (!blank && !first.starts_with('#')).then_some((line, record))
+        })
+}
+
+/// The fields of a row, trimmed.
+pub(crate) fn trimmed(record: &csv::StringRecord) -> Vec<&str> {
+    record.iter().map(str::trim).collect()
+}
+
 /// Parses CSV text (MODEL.md §6); `path` only names the file in errors.
 pub fn parse_csv(text: &str, path: &Path) -> Result<Record, Error> {
-    let mut lines = text
-        .lines()
-        .enumerate()
-        .map(|(i, l)| (i + 1, l.trim()))
-        .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'));
+    let mut lines = rows(text);
     let Some((hline, header)) = lines.next() else {
         return Err(err(
             path,
             "empty file: no header line (MODEL.md §6 needs columns t, u, x)",
         ));
     };
-    let names: Vec<&str> = header.split(',').map(str::trim).collect();
+    let names = trimmed(&header);
     let col = |name: &str| names.iter().position(|n| *n == name);
     let mut idx = [0usize; 3];
     for (slot, name) in idx.iter_mut().zip(["t", "u", "x"]) {
@@ -114,8 +153,8 @@ pub fn parse_csv(text: &str, path: &Path) -> Result<Record, Error> {
         v: vcol.map(|_| Vec::new()),
         source: path.display().to_string(),
     };
-    for (ln, line) in lines {
-        let fields: Vec<&str> = line.split(',').map(str::trim).collect();
+    for (ln, row) in lines {
+        let fields = trimmed(&row);
         let get = |name: &str, i: usize| -> Result<f64, Error> {
             let s = fields.get(i).ok_or_else(|| {
                 err(
@@ -296,15 +335,11 @@ pub fn write_csv(path: &Path, rec: &Record, comments: &[String]) -> Result<(), E
 /// (others ignored), `#` comments; one force reading per speed. Needs at
 /// least 5 points; every error names the line and column.
 pub fn parse_steady_csv(text: &str, path: &Path) -> Result<Vec<crate::static_curve::Point>, Error> {
-    let mut lines = text
-        .lines()
-        .enumerate()
-        .map(|(i, l)| (i + 1, l.trim()))
-        .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'));
+    let mut lines = rows(text);
     let Some((hline, header)) = lines.next() else {
         return Err(err(path, "empty file: no header line (columns v, u)"));
     };
-    let names: Vec<&str> = header.split(',').map(str::trim).collect();
+    let names = trimmed(&header);
     let col = |name: &str| {
         names.iter().position(|n| *n == name).ok_or_else(|| {
             err(
@@ -318,8 +353,8 @@ pub fn parse_steady_csv(text: &str, path: &Path) -> Result<Vec<crate::static_cur
     };
     let (iv, iu) = (col("v")?, col("u")?);
     let mut pts = Vec::new();
-    for (ln, line) in lines {
-        let fields: Vec<&str> = line.split(',').map(str::trim).collect();
+    for (ln, row) in lines {
+        let fields = trimmed(&row);
         let get = |name: &str, i: usize| -> Result<f64, Error> {
             let s = fields
                 .get(i)
@@ -346,4 +381,82 @@ pub fn parse_steady_csv(text: &str, path: &Path) -> Result<Vec<crate::static_cur
         ));
     }
     Ok(pts)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn csv(body: &str) -> String {
+        let mut s = String::from(body);
+        for i in 0..MIN_SAMPLES {
+            s.push_str(&format!("{i},0.5,{i}\n"));
+        }
+        s
+    }
+
+    fn error(text: &str) -> String {
+        match parse_csv(text, Path::new("f.csv")) {
+            Err(Error::Runtime(e)) => e,
+            other => panic!("{other:?}"),
+        }
+    }
+
+    /// Comments (also indented), blank and whitespace-only lines, CRLF
+    /// endings and spaces around fields; line numbers count every line.
+    #[test]
+    fn layout_and_line_numbers() {
+        let text = csv("# a comment\n\n   \n  # indented\r\n t , u,x \r\n");
+        let rec = parse_csv(&text, Path::new("f.csv")).unwrap();
+        assert_eq!(rec.len(), MIN_SAMPLES);
+        assert_eq!((rec.t[1], rec.u[1], rec.x[1]), (1.0, 0.5, 1.0));
+        let bad = text.replacen("\n3,0.5,", "\n3,abc,", 1);
+        assert_eq!(
+            error(&bad),
+            "f.csv: line 9: column `u`: `abc` is not a number"
+        );
+        let bad = text.replacen("\n3,0.5,3\n", "\n3,0.5\n", 1);
+        assert_eq!(
+            error(&bad),
+            "f.csv: line 9: column `x` missing (2 fields, header has 3)"
+        );
+    }
+
+    /// No quoting: a quoted number is not a number; the header must name
+    /// the columns.
+    #[test]
+    fn strict_fields() {
+        let bad = csv("t,u,x\n").replacen("\n2,", "\n\"2\",", 1);
+        assert_eq!(
+            error(&bad),
+            "f.csv: line 4: column `t`: `\"2\"` is not a number"
+        );
+        assert_eq!(
+            error("# only\n\n"),
+            "f.csv: empty file: no header line (MODEL.md §6 needs columns t, u, x)"
+        );
+        assert!(error(&csv("t;u;x\n")).starts_with("f.csv: line 1: header lacks column `t`"));
+    }
+
+    /// Every line counts, empty ones included, wherever they stand.
+    #[test]
+    fn line_numbers_count_empty_lines() {
+        let lines = |text: &str| -> Vec<u64> { rows(text).map(|(line, _)| line).collect() };
+        assert_eq!(lines("\n\n\nq\n\n\nr"), [4, 7]);
+        assert_eq!(lines("a\r\n\r\nb\r\n"), [1, 3]);
+        assert_eq!(lines("#a,b\n\nx,y\n"), [3]);
+        assert_eq!(lines("a\n\nx\n  \ny\nz\n"), [1, 3, 5, 6]);
+    }
+
+    #[test]
+    fn steady_state_points() {
+        let text = "# v, u\nu, v\n1,0.1\n\n2,0.2\n3,0.3\n4,0.4\n5,0.5\n";
+        let pts = parse_steady_csv(text, Path::new("s.csv")).unwrap();
+        assert_eq!((pts.len(), pts[4].v, pts[4].tau), (5, 0.5, 5.0));
+        let e = parse_steady_csv(&text.replace("4,0.4", "4,x"), Path::new("s.csv"));
+        assert!(
+            matches!(&e, Err(Error::Runtime(m)) if m == "s.csv: line 7: column `v`: `x` is not a finite number"),
+            "{e:?}"
+        );
+    }
 }

@@ -1,11 +1,13 @@
 //! Output: aligned text tables and JSON.
 //!
-//! JSON numbers are written by `serde_json` (shortest round-trip `f64`, so full
-//! precision); a non-finite number would be written as `null`. Objects keep
-//! the key order documented in the `--help` text and MODEL.md §4 names.
+//! JSON is written by `serde_json` from the structures below (shortest
+//! round-trip `f64`, so full precision; a non-finite number would be written
+//! as `null`), one object per line. Objects keep the key order documented in
+//! the `--help` text and MODEL.md §4 names (the order of the fields).
 
 use crate::commands::{BreakawayRow, ValidityBlock};
 use crate::reference::Variant;
+use serde::{Serialize, Serializer};
 use std::fmt::Write as _;
 
 /// `x` with `sig` significant digits, trailing zeros trimmed (like C's `%g`).
@@ -64,26 +66,56 @@ pub fn table(header: &[&str], rows: &[Vec<String>]) -> String {
     out
 }
 
-/// A JSON number (full precision) or `null` if not finite.
-fn num(x: f64) -> String {
-    serde_json::Value::from(x).to_string()
-}
-
-/// A JSON object from pre-rendered values, keys in the order given.
-fn object(fields: &[(&str, String)]) -> String {
-    let body: Vec<String> = fields
-        .iter()
-        .map(|(k, v)| format!("{}:{v}", serde_json::Value::from(*k)))
+/// A JSON array, one compact object per line.
+fn array<T: Serialize>(items: impl IntoIterator<Item = T>) -> String {
+    // Serialising these plain structs into a string cannot fail.
+    let items: Vec<String> = items
+        .into_iter()
+        .map(|item| serde_json::to_string(&item).unwrap_or_default())
         .collect();
-    format!("{{{}}}", body.join(","))
-}
-
-/// A JSON array, one element per line.
-fn array(items: &[String]) -> String {
     if items.is_empty() {
         return "[]\n".to_string();
     }
     format!("[\n  {}\n]\n", items.join(",\n  "))
+}
+
+/// Serialises `(key, value)` pairs as a JSON object, in their order.
+fn in_order<V: Serialize, S: Serializer>(pairs: &[(&str, V)], s: S) -> Result<S::Ok, S::Error> {
+    s.collect_map(pairs.iter().map(|(k, v)| (k, v)))
+}
+
+/// One row of `breakaway --json`.
+#[derive(Serialize)]
+struct BreakawayJson<'a> {
+    variant: &'a str,
+    k: f64,
+    v_b: f64,
+    f_ba: f64,
+    t_ba: f64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    f_ba_sim: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    t_ba_sim: Option<f64>,
+}
+
+/// One `(m, k)` point of `validity-map --json`.
+#[derive(Serialize)]
+struct ValidityJson<'a> {
+    m: f64,
+    pi: f64,
+    k: f64,
+    lambda: f64,
+    f_ba_sim: f64,
+    t_ba_sim: f64,
+    #[serde(serialize_with = "in_order")]
+    variants: Vec<(&'a str, Compared)>,
+}
+
+/// One variant at one point of `validity-map --json`.
+#[derive(Serialize)]
+struct Compared {
+    f_ba: f64,
+    drift: f64,
 }
 
 /// `breakaway` as a table.
@@ -115,27 +147,15 @@ pub fn breakaway_table(rows: &[BreakawayRow], dynamic: bool) -> String {
 /// `breakaway --json`: keys `variant`, `k`, `v_b`, `f_ba`, `t_ba` and with
 /// `--dynamic` `f_ba_sim`, `t_ba_sim`.
 pub fn breakaway_json(rows: &[BreakawayRow]) -> String {
-    let items: Vec<String> = rows
-        .iter()
-        .map(|r| {
-            let mut f = vec![
-                (
-                    "variant",
-                    serde_json::Value::from(r.variant.name()).to_string(),
-                ),
-                ("k", num(r.k)),
-                ("v_b", num(r.v_b)),
-                ("f_ba", num(r.f_ba)),
-                ("t_ba", num(r.t_ba)),
-            ];
-            if let Some(d) = r.dynamic {
-                f.push(("f_ba_sim", num(d.f_ba)));
-                f.push(("t_ba_sim", num(d.t_ba)));
-            }
-            object(&f)
-        })
-        .collect();
-    array(&items)
+    array(rows.iter().map(|r| BreakawayJson {
+        variant: r.variant.name(),
+        k: r.k,
+        v_b: r.v_b,
+        f_ba: r.f_ba,
+        t_ba: r.t_ba,
+        f_ba_sim: r.dynamic.map(|d| d.f_ba),
+        t_ba_sim: r.dynamic.map(|d| d.t_ba),
+    }))
 }
 
 /// The band of a relative drift: `ok` below 1 %, `>1%`, `>10%`.
@@ -198,31 +218,24 @@ pub fn validity_table(blocks: &[ValidityBlock], variants: &[Variant], w_b: f64) 
 /// `lambda`, `f_ba_sim`, `t_ba_sim` and `variants`, an object
 /// `{variant: {"f_ba": …, "drift": …}}` (drift relative, not in %).
 pub fn validity_json(blocks: &[ValidityBlock]) -> String {
-    let mut items = Vec::new();
-    for b in blocks {
-        for p in &b.points {
-            let variants: Vec<(&str, String)> = p
+    array(blocks.iter().flat_map(|b| {
+        b.points.iter().map(|p| ValidityJson {
+            m: b.mass,
+            pi: b.pi,
+            k: p.k,
+            lambda: p.lambda,
+            f_ba_sim: p.sim.f_ba,
+            t_ba_sim: p.sim.t_ba,
+            variants: p
                 .compared
                 .iter()
                 .map(|c| {
-                    (
-                        c.variant.name(),
-                        object(&[("f_ba", num(c.f_ba)), ("drift", num(c.drift))]),
-                    )
+                    let (f_ba, drift) = (c.f_ba, c.drift);
+                    (c.variant.name(), Compared { f_ba, drift })
                 })
-                .collect();
-            items.push(object(&[
-                ("m", num(b.mass)),
-                ("pi", num(b.pi)),
-                ("k", num(p.k)),
-                ("lambda", num(p.lambda)),
-                ("f_ba_sim", num(p.sim.f_ba)),
-                ("t_ba_sim", num(p.sim.t_ba)),
-                ("variants", object(&variants)),
-            ]));
-        }
-    }
-    array(&items)
+                .collect(),
+        })
+    }))
 }
 
 /// A markdown table (numbers right-aligned).

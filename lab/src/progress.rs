@@ -1,63 +1,47 @@
-//! A one-line progress display on stderr during long fits, shown only when
-//! stderr is a terminal (quiet in pipes, files and tests).
+//! A one-line progress display on stderr during long fits (an `indicatif`
+//! spinner with a message), drawn only when stderr is a terminal: quiet in
+//! pipes, files and tests.
 
-use std::io::{IsTerminal, Write};
-use std::time::{Duration, Instant};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use std::io::IsTerminal;
 
 /// Progress line on stderr, redrawn at most 10 times a second.
 #[derive(Debug)]
 pub struct Progress {
-    enabled: bool,
-    last: Option<Instant>,
-    shown: bool,
+    bar: ProgressBar,
 }
 
 impl Progress {
     /// Enabled when stderr is a terminal.
     pub fn stderr() -> Progress {
-        Progress {
-            enabled: std::io::stderr().is_terminal(),
-            last: None,
-            shown: false,
+        if !std::io::stderr().is_terminal() {
+            return Progress::quiet();
         }
+        let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr_with_hz(10));
+        if let Ok(style) = ProgressStyle::with_template("{spinner} {msg}") {
+            bar.set_style(style);
+        }
+        Progress { bar }
     }
 
     /// A silent display.
     pub fn quiet() -> Progress {
         Progress {
-            enabled: false,
-            last: None,
-            shown: false,
+            bar: ProgressBar::hidden(),
         }
     }
 
-    /// Shows `msg` (throttled).
+    /// Shows `msg` (throttled to the refresh rate).
     pub fn show(&mut self, msg: &str) {
-        if !self.enabled {
-            return;
+        if !self.bar.is_hidden() {
+            self.bar.set_message(msg.to_owned());
+            self.bar.tick();
         }
-        let now = Instant::now();
-        if self
-            .last
-            .is_some_and(|t| now.duration_since(t) < Duration::from_millis(100))
-        {
-            return;
-        }
-        self.last = Some(now);
-        let mut e = std::io::stderr().lock();
-        let _ = write!(e, "\r\x1b[K{msg}");
-        let _ = e.flush();
-        self.shown = true;
     }
 
     /// Clears the line.
     pub fn finish(&mut self) {
-        if self.enabled && self.shown {
-            let mut e = std::io::stderr().lock();
-            let _ = write!(e, "\r\x1b[K");
-            let _ = e.flush();
-            self.shown = false;
-        }
+        self.bar.finish_and_clear();
     }
 }
 

@@ -72,28 +72,23 @@ pub fn read(path: &Path) -> Result<Vec<Point>, Error> {
         .map_err(|e| Error::Runtime(format!("{}: cannot read: {e}", path.display())))?;
     let mut pts = Vec::new();
     let mut header = false;
-    for (ln, line) in text.lines().enumerate() {
-        let l = line.trim();
-        if l.to_ascii_lowercase().starts_with("desired vel") {
+    for (ln, row) in crate::data::rows(&text) {
+        let first = row.get(0).map_or("", str::trim);
+        if first.to_ascii_lowercase().starts_with("desired vel") {
             header = true;
             continue;
         }
-        if !header
-            || l.is_empty()
-            || !l.starts_with(|c: char| c == '-' || c == '.' || c.is_ascii_digit())
-        {
+        if !header || !first.starts_with(|c: char| c == '-' || c == '.' || c.is_ascii_digit()) {
             continue;
         }
-        let f: Vec<&str> = l
-            .split(',')
-            .map(str::trim)
+        let f: Vec<&str> = crate::data::trimmed(&row)
+            .into_iter()
             .filter(|s| !s.is_empty())
             .collect();
         if f.len() < 3 {
             return Err(Error::Runtime(format!(
-                "{}: line {}: expected 3 columns (desired vel, real vel, tau), got {}",
+                "{}: line {ln}: expected 3 columns (desired vel, real vel, tau), got {}",
                 path.display(),
-                ln + 1,
                 f.len()
             )));
         }
@@ -103,9 +98,8 @@ pub fn read(path: &Path) -> Result<Vec<Point>, Error> {
                 .filter(|x| x.is_finite())
                 .ok_or_else(|| {
                     Error::Runtime(format!(
-                        "{}: line {}: column `{name}`: `{}` is not a finite number",
+                        "{}: line {ln}: column `{name}`: `{}` is not a finite number",
                         path.display(),
-                        ln + 1,
                         f[i]
                     ))
                 })

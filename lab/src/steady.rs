@@ -444,11 +444,7 @@ pub fn is_steady(path: &Path) -> bool {
     let Ok(text) = std::fs::read_to_string(path) else {
         return false;
     };
-    let mut lines = text
-        .lines()
-        .map(str::trim)
-        .filter(|l| !l.is_empty() && !l.starts_with('#'));
-    let Some(first) = lines.next() else {
+    let Some((_, first)) = crate::data::rows(&text).next() else {
         return false;
     };
     if text
@@ -457,7 +453,7 @@ pub fn is_steady(path: &Path) -> bool {
     {
         return true;
     }
-    let cols: Vec<&str> = first.split(',').map(str::trim).collect();
+    let cols = crate::data::trimmed(&first);
     cols.contains(&"v") && cols.contains(&"u") && !cols.contains(&"t")
 }
 

@@ -14,17 +14,10 @@ use std::io::Write;
 use std::path::Path;
 
 /// Loads a model file for the workflow (`z_max = 0` allowed: a model without
-/// presliding). The error names the file.
+/// presliding). The error names the file (the reference's message starts
+/// with it).
 pub fn load_model(path: &Path) -> Result<Model, Error> {
-    Model::load(path).map_err(|e| {
-        let msg = e.to_string();
-        let shown = path.display().to_string();
-        if msg.contains(&shown) {
-            Error::Runtime(msg)
-        } else {
-            Error::Runtime(format!("{shown}: {msg}"))
-        }
-    })
+    Model::load(path).map_err(|e| Error::Runtime(e.to_string()))
 }
 
 fn save_model(path: &Path, m: &Model) -> Result<(), Error> {

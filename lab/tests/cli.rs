@@ -1,21 +1,10 @@
 //! Runs the `breakaway-lab` binary: JSON keys, tables, and one-line errors with
 //! the right exit codes on bad input (never a panic).
 
-use std::path::PathBuf;
-use std::process::{Command, Output};
+use std::process::Output;
 
-const BIN: &str = env!("CARGO_BIN_EXE_breakaway-lab");
-
-fn fig5() -> String {
-    concat!(env!("CARGO_MANIFEST_DIR"), "/models/fig5.toml").to_string()
-}
-
-fn run(args: &[&str]) -> Output {
-    Command::new(BIN)
-        .args(args)
-        .output()
-        .expect("runs the binary")
-}
+mod common;
+use common::{error_line, fig5, run, tmp};
 
 fn stdout(o: &Output) -> String {
     String::from_utf8(o.stdout.clone()).unwrap()
@@ -25,21 +14,14 @@ fn stdout(o: &Output) -> String {
 /// `error: …` containing every needle; returns the line.
 fn fails(args: &[&str], code: i32, needles: &[&str]) -> String {
     let o = run(args);
-    let err = String::from_utf8(o.stderr.clone()).unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(code), "{args:?}: {err}");
     assert!(o.stdout.is_empty(), "{args:?} printed to stdout");
-    let lines: Vec<&str> = err.lines().collect();
-    assert_eq!(lines.len(), 1, "{args:?}: not one line: {err}");
-    assert!(lines[0].starts_with("error: "), "{err}");
-    assert!(!err.contains("panicked"), "{err}");
-    for n in needles {
-        assert!(lines[0].contains(n), "{args:?}: `{}` lacks `{n}`", lines[0]);
-    }
-    lines[0].to_string()
+    error_line(args, &o, needles)
 }
 
 fn temp_model(name: &str, text: &str) -> String {
-    let path = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
+    let path = tmp(name);
     std::fs::write(&path, text).unwrap();
     path.to_string_lossy().into_owned()
 }

@@ -11,10 +11,11 @@
 use std::path::PathBuf;
 use std::process::Command;
 
-const BIN: &str = env!("CARGO_BIN_EXE_breakaway-lab");
+mod common;
+use common::{tmp, BIN};
 
 fn dir() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/independent")
+    common::shared_data("independent")
 }
 
 /// Hidden effects from the truth file's first line
@@ -37,7 +38,7 @@ fn hidden(name: &str) -> Vec<String> {
 }
 
 fn diagnose(name: &str) -> serde_json::Value {
-    let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("indep_{name}.json"));
+    let out = tmp(&format!("indep_{name}.json"));
     let o = Command::new(BIN)
         .arg("diagnose")
         .arg(dir().join(format!("{name}.csv")))

@@ -4,19 +4,12 @@
 //! panic, inputs untouched).
 
 use std::path::PathBuf;
-use std::process::{Command, Output};
 
-const BIN: &str = env!("CARGO_BIN_EXE_breakaway-lab");
+mod common;
+use common::{error_line, run};
 
 fn tmp(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("wf_{name}"))
-}
-
-fn run(args: &[&str]) -> Output {
-    Command::new(BIN)
-        .args(args)
-        .output()
-        .expect("runs the binary")
+    common::tmp(&format!("wf_{name}"))
 }
 
 fn ok(args: &[&str]) -> String {
@@ -29,24 +22,13 @@ fn ok(args: &[&str]) -> String {
 /// Exit code 1 or 2, exactly one stderr line `error: …` with every needle.
 fn fails(args: &[&str], needles: &[&str]) -> String {
     let o = run(args);
-    let err = String::from_utf8(o.stderr.clone()).unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
     assert!(matches!(o.status.code(), Some(1 | 2)), "{args:?}: {err}");
-    let lines: Vec<&str> = err.lines().collect();
-    assert_eq!(lines.len(), 1, "{args:?}: not one line: {err}");
-    assert!(
-        lines[0].starts_with("error: ") && !err.contains("panicked"),
-        "{err}"
-    );
-    for n in needles {
-        assert!(lines[0].contains(n), "{args:?}: `{}` lacks `{n}`", lines[0]);
-    }
-    lines[0].to_string()
+    error_line(args, &o, needles)
 }
 
 fn write(name: &str, text: &str) -> String {
-    let p = tmp(name);
-    std::fs::write(&p, text).unwrap();
-    p.to_string_lossy().into_owned()
+    common::write(&format!("wf_{name}"), text)
 }
 
 fn good_csv(n: usize) -> String {
@@ -342,14 +324,10 @@ fn bad_mat_input() {
 
 #[test]
 fn static_curve_indy7_joint1() {
-    let f = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../shared/data/indy7/joint1_steady_state.csv"
-    );
-    if !std::path::Path::new(f).exists() {
-        println!("note: {f} not found; skipped");
+    let Some(f) = common::shared_or_skip("indy7/joint1_steady_state.csv") else {
         return;
-    }
+    };
+    let f = f.as_str();
     let j = ok(&["static-curve", f, "--json"]);
     let v: serde_json::Value = serde_json::from_str(&j).unwrap();
     let c = v["curves"].as_array().unwrap();
@@ -365,14 +343,10 @@ fn static_curve_indy7_joint1() {
 /// halves the gap, and the fitted mass is within 2 % of the published one.
 #[test]
 fn emps_real_data() {
-    let f = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../shared/data/emps/DATA_EMPS.mat"
-    );
-    if !std::path::Path::new(f).exists() {
-        println!("note: {f} not found; skipped");
+    let Some(f) = common::shared_or_skip("emps/DATA_EMPS.mat") else {
         return;
-    }
+    };
+    let f = f.as_str();
     let rep = tmp("emps.json");
     ok(&["diagnose", f, "--json", rep.to_str().unwrap()]);
     let v: serde_json::Value =
@@ -457,10 +431,7 @@ fn malformed_input_battery() {
         cases.push((format!("cut{cut}.mat"), mat[..cut].to_vec(), vec![".mat"]));
     }
     // The real EMPS file, truncated.
-    let emps = std::fs::read(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../shared/data/emps/DATA_EMPS.mat"
-    ));
+    let emps = std::fs::read(common::shared_data("emps/DATA_EMPS.mat"));
     if let Ok(emps) = emps {
         cases.push((
             "emps_cut.mat".into(),

@@ -3,17 +3,13 @@
 
 use breakaway_reference::*;
 
+mod common;
+
+/// The Fig. 5 setting with shape exponent `delta`.
 fn setting(delta: f64) -> Model {
     Model {
-        mass: 1.0,
-        fc: 1.0,
-        fs: 1.5,
-        v_stribeck: 1e-3,
         delta,
-        sigma: 0.0,
-        z_max: 1e-5,
-        epsilon: 0.0,
-        effects: Effects::default(),
+        ..common::paper()
     }
 }
 

@@ -178,34 +178,10 @@ impl fmt::Display for ConfigError {
 
 impl core::error::Error for ConfigError {}
 
-/// A non-finite input sample, named; the sample is rejected and the state
-/// left unchanged.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[non_exhaustive]
-pub enum SignalError {
-    /// The force command u is NaN or infinite.
-    Command,
-    /// The velocity is NaN or infinite.
-    Velocity,
-    /// A model or feedforward force is NaN or infinite.
-    Force,
-    /// A position sample is NaN or infinite.
-    Position,
-}
-
-impl fmt::Display for SignalError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(match self {
-            SignalError::Command => "force command is not finite",
-            SignalError::Velocity => "velocity sample is not finite",
-            SignalError::Force => "force sample is not finite",
-            SignalError::Position => "position sample is not finite",
-        })
-    }
-}
-
-impl core::error::Error for SignalError {}
+// The blocks reject a non-finite sample with the crate's one per-sample
+// error, [`SampleError`](crate::SampleError); `SignalError` is its name
+// inside this module.
+pub(crate) use crate::error::SampleError as SignalError;
 
 /// `Ok(x)` when `x` is finite and `> 0`, else the setting.
 pub(crate) fn positive(x: f32, setting: Setting) -> Result<f32, ConfigError> {

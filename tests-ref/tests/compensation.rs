@@ -4,93 +4,40 @@
 
 use breakaway::compensation::{
     AdaptationConfig, BreakAwayDetector, ConfigError, DetectorConfig, DisturbanceObserver,
-    Feedforward, FeedforwardConfig, LevelAdaptation, ObserverConfig, Setting, SignalError,
+    Feedforward, FeedforwardConfig, LevelAdaptation, ObserverConfig, Setting,
 };
 use breakaway::{Model, Params, SampleError, Variant};
 use breakaway_reference as reference;
 
-const FIG5: Params = Params {
-    fc: 1.0,
-    fs: 1.5,
-    v_stribeck: 1e-3,
-    delta: 1.0,
-    sigma: 0.0,
-    z_max: 1e-5,
-    epsilon: 0.0,
+mod common;
+use common::{reference_model, Plant, FIG5};
+
+/// Fig. 5 with viscous friction σ = 50 N·s/m (σ·V = Fs/30).
+const VISCOUS: Params = Params {
+    sigma: 50.0,
+    ..FIG5
 };
 
-fn reference_model(p: &Params, mass: f64, level: f64) -> reference::Model {
-    reference::Model {
-        mass,
-        fc: p.fc as f64 * level,
-        fs: p.fs as f64 * level,
-        v_stribeck: p.v_stribeck as f64,
-        delta: p.delta as f64,
-        sigma: p.sigma as f64,
-        z_max: p.z_max as f64,
-        epsilon: p.epsilon as f64,
-        effects: reference::Effects::default(),
-    }
-}
-
-/// m·ẍ = u − F with F from the reference `Friction`, integrated by
-/// semi-implicit Euler with sub-steps far below the presliding period.
-struct Plant {
-    model: reference::Model,
-    friction: reference::Friction,
-    t: f64,
-    x: f64,
-    v: f64,
-    /// Mean friction over the last period [N].
-    mean_friction: f64,
-}
-
-impl Plant {
-    const SUBSTEPS: usize = 200;
-
-    fn new(model: reference::Model) -> Self {
-        let friction = reference::Friction::new(&model, 0.0, 0.0, 0.0);
-        Self {
-            model,
-            friction,
-            t: 0.0,
-            x: 0.0,
-            v: 0.0,
-            mean_friction: 0.0,
-        }
-    }
-
-    /// Holds `u` [N] for `period` [s].
-    fn step(&mut self, u: f64, period: f64) {
-        let h = period / Self::SUBSTEPS as f64;
-        let mut sum = 0.0;
-        for _ in 0..Self::SUBSTEPS {
-            let f = self.friction.update(&self.model, self.t, self.x, self.v);
-            sum += f;
-            self.v += h * (u - f) / self.model.mass;
-            self.x += h * self.v;
-            self.t += h;
-        }
-        self.mean_friction = sum / Self::SUBSTEPS as f64;
-    }
+/// Sample `n` (1 ms period) of a 0.5 Hz sinusoid of 3·z_max with a 0.4·z_max
+/// ripple at 7.3 times the frequency: position [m] and velocity [m/s].
+fn ripple(n: i32) -> (f64, f64) {
+    let t = n as f64 * 1e-3;
+    let w = 2.0 * std::f64::consts::PI * 0.5;
+    let x = 3e-5 * (w * t).sin() + 4e-6 * (7.3 * w * t).sin();
+    let v = 3e-5 * w * (w * t).cos() + 4e-6 * 7.3 * w * (7.3 * w * t).cos();
+    (x, v)
 }
 
 #[test]
 fn feedforward_follows_the_reference_presliding_model() {
-    let p = Params {
-        sigma: 50.0,
-        ..FIG5
-    };
+    let p = VISCOUS;
     let model = Model::<f32>::new(p).unwrap();
-    let judge_model = reference_model(&p, 1.0, 1.0);
+    let judge_model = reference_model(&p);
     let mut judge = reference::Presliding::new(0.0);
     let mut ff = Feedforward::<f32>::new(FeedforwardConfig::default(), 0.0, 1.0).unwrap();
     let mut worst = 0.0f64;
     for n in 0..4000 {
-        let t = n as f64 * 1e-3;
-        let w = 2.0 * std::f64::consts::PI * 0.5;
-        let x = 3e-5 * (w * t).sin() + 4e-6 * (7.3 * w * t).sin();
-        let v = 3e-5 * w * (w * t).cos() + 4e-6 * 7.3 * w * (7.3 * w * t).cos();
+        let (x, v) = ripple(n);
         let u = ff.update(&model, x as f32, v as f32).unwrap();
         let want = judge.update(&judge_model, x as f32 as f64, v as f32 as f64);
         worst = worst.max((u as f64 - want).abs() / p.fs as f64);
@@ -151,13 +98,10 @@ fn feedforward_options() {
     assert!((u as f64 - 1.1 * want).abs() < 1e-6);
     // A rejected sample changes nothing.
     let before = ff.clone();
-    assert_eq!(
-        ff.update(&model, f32::NAN, 0.0),
-        Err(SampleError::NonFinitePosition)
-    );
+    assert_eq!(ff.update(&model, f32::NAN, 0.0), Err(SampleError::Position));
     assert_eq!(
         ff.update(&model, 0.0, f32::INFINITY),
-        Err(SampleError::NonFiniteVelocity)
+        Err(SampleError::Velocity)
     );
     assert_eq!(ff, before);
     // Settings are validated and named.
@@ -205,7 +149,11 @@ fn sliding_run(
 ) -> (Plant, DisturbanceObserver, LevelAdaptation, f32) {
     const T: f32 = 1e-3;
     let model = Model::<f32>::new(FIG5).unwrap();
-    let mut plant = Plant::new(reference_model(&FIG5, 1.0, level));
+    let mut plant = Plant::new(reference::Model {
+        fc: FIG5.fc as f64 * level,
+        fs: FIG5.fs as f64 * level,
+        ..reference_model(&FIG5)
+    });
     let mut ff = Feedforward::<f32>::new(FeedforwardConfig::default(), 0.0, 1.0).unwrap();
     let mut observer = DisturbanceObserver::new(ObserverConfig {
         mass: 1.0,
@@ -291,10 +239,10 @@ fn adaptation_is_frozen_bounded_and_rejects_bad_samples() {
         a.update(100.0, 1.0, 0.1, true).unwrap();
     }
     assert_eq!(a.scale(), 1.5);
-    assert_eq!(a.update(f32::NAN, 1.0, 0.1, true), Err(SignalError::Force));
+    assert_eq!(a.update(f32::NAN, 1.0, 0.1, true), Err(SampleError::Force));
     assert_eq!(
         a.update(1.0, 1.0, f32::NAN, true),
-        Err(SignalError::Velocity)
+        Err(SampleError::Velocity)
     );
     assert_eq!(a.scale(), 1.5);
     for (c, s) in [
@@ -358,12 +306,12 @@ fn observer_rejects_bad_samples_and_settings() {
     o.update(1.0, 0.0, 0.0).unwrap();
     o.update(1.0, 0.0, 0.0).unwrap();
     let before = o.clone();
-    assert_eq!(o.update(f32::NAN, 0.0, 0.0), Err(SignalError::Command));
+    assert_eq!(o.update(f32::NAN, 0.0, 0.0), Err(SampleError::Command));
     assert_eq!(
         o.update(0.0, f32::INFINITY, 0.0),
-        Err(SignalError::Velocity)
+        Err(SampleError::Velocity)
     );
-    assert_eq!(o.update(0.0, 0.0, f32::NAN), Err(SignalError::Force));
+    assert_eq!(o.update(0.0, 0.0, f32::NAN), Err(SampleError::Force));
     assert_eq!(o, before);
     // A constant force with the axis held still is all disturbance: the
     // estimate rises as 1 − e^(−g·t).
@@ -402,7 +350,7 @@ fn observer_rejects_bad_samples_and_settings() {
 #[test]
 fn detector_measures_the_break_away_of_the_reference_dynamics() {
     let model = Model::<f32>::new(FIG5).unwrap();
-    let judge = reference_model(&FIG5, 1.0, 1.0);
+    let judge = reference_model(&FIG5);
     const T: f64 = 1e-4;
     let config = DetectorConfig {
         period: T as f32,
@@ -451,7 +399,7 @@ fn detector_measures_the_break_away_of_the_reference_dynamics() {
     let before = detector.clone();
     assert_eq!(
         detector.update(&model, f32::NAN, 0.0),
-        Err(SignalError::Command)
+        Err(SampleError::Command)
     );
     assert_eq!(detector, before);
 }
@@ -531,7 +479,7 @@ fn fixed_detector_matches_the_f32_detector_on_the_reference_dynamics() {
     use breakaway::{Scalar, Q16};
     let float_model = Model::<f32>::new(FIG5).unwrap();
     let fixed_model = Model::<Q16>::new(FIG5).unwrap();
-    let judge = reference_model(&FIG5, 1.0, 1.0);
+    let judge = reference_model(&FIG5);
     let (mut worst_k, mut worst_f, mut worst_t, mut worst_p) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
     // min_rate at least two Q16 command steps per sample, 2⁻¹⁵·Fs/T
     // (0.46 N/s at 10 kHz).
@@ -650,11 +598,11 @@ fn detector_range_and_rejected_samples() {
             let before = float.clone();
             assert_eq!(
                 float.update(&float_model, f32::NAN, v),
-                Err(SignalError::Command)
+                Err(SampleError::Command)
             );
             assert_eq!(
                 float.update(&float_model, u, f32::INFINITY),
-                Err(SignalError::Velocity)
+                Err(SampleError::Velocity)
             );
             assert_eq!(float, before);
         }
@@ -681,7 +629,7 @@ fn fixed_detector_admits_two_command_steps_per_sample() {
     let step = fs / 65536.0; // N
     let float_model = Model::<f32>::new(FIG5).unwrap();
     let fixed_model = Model::<Q16>::new(FIG5).unwrap();
-    let judge = reference_model(&FIG5, 1.0, 1.0);
+    let judge = reference_model(&FIG5);
     let velocity = |v: f32| fixed_model.velocity(v).unwrap();
     // The command in Fs, rounded once (from the f32 command in N), or twice:
     // first to 2⁻¹⁶ N, as a controller computing in Q16 newtons would.
@@ -813,13 +761,10 @@ fn fixed_detector_settings() {
 #[test]
 fn fixed_feedforward_follows_the_reference_presliding_model() {
     use breakaway::{Scalar, Q16};
-    let p = Params {
-        sigma: 50.0,
-        ..FIG5
-    };
+    let p = VISCOUS;
     let model = Model::<Q16>::new(p).unwrap();
     let scale = model.position_scale::<i32>(1e-8).unwrap();
-    let judge_model = reference_model(&p, 1.0, 1.0);
+    let judge_model = reference_model(&p);
     let mut judge = reference::Presliding::new(0.0);
     let config = FeedforwardConfig {
         gain: 1.0,
@@ -829,10 +774,7 @@ fn fixed_feedforward_follows_the_reference_presliding_model() {
     let mut ff = Feedforward::<i32, Q16>::with_units(config, model.units(), 0, scale).unwrap();
     let mut worst = 0.0f64;
     for n in 0..4000 {
-        let t = n as f64 * 1e-3;
-        let w = 2.0 * std::f64::consts::PI * 0.5;
-        let x = 3e-5 * (w * t).sin() + 4e-6 * (7.3 * w * t).sin();
-        let v = 3e-5 * w * (w * t).cos() + 4e-6 * 7.3 * w * (7.3 * w * t).cos();
+        let (x, v) = ripple(n);
         let count = (x / 1e-8).round() as i32;
         let v_q = model.velocity(v as f32).unwrap();
         let u = ff.update(&model, count, v_q).unwrap().to_f32() as f64 * p.fs as f64;
@@ -859,7 +801,7 @@ fn fixed_observer_matches_the_f32_observer_on_the_reference_plant() {
     };
     let mut float = DisturbanceObserver::new(config).unwrap();
     let mut fixed = DisturbanceObserver::<Q16>::with_units(config, model.units()).unwrap();
-    let mut plant = Plant::new(reference_model(&FIG5, 1.0, 1.0));
+    let mut plant = Plant::new(reference_model(&FIG5));
     let (v_ref, mut integral, mut u) = (0.02f64, 0.0f64, 0.0f64);
     let mut worst = 0.0f64;
     for _ in 0..1000 {

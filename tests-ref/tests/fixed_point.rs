@@ -16,7 +16,7 @@ use breakaway_reference as reference;
 use proptest::prelude::*;
 
 mod common;
-use common::{paper, params, reference_model, runner, samples, trajectory, Segment};
+use common::{params, reference_model, runner, samples, trajectory, Segment, FIG5};
 
 type Fx = Q16<16>;
 
@@ -146,7 +146,7 @@ fn construction_rejects_what_does_not_fit_naming_the_parameter() {
     // σ·V/Fs = 1e6 does not fit Q16.16.
     let p = Params {
         sigma: 1.5e9,
-        ..paper()
+        ..FIG5
     };
     assert_eq!(
         Model::<Fx>::new(p).unwrap_err(),
@@ -155,23 +155,20 @@ fn construction_rejects_what_does_not_fit_naming_the_parameter() {
     // ε = 200·z_max: ε/z_max·256 = 51200 does not fit.
     let p = Params {
         epsilon: 2e-3,
-        ..paper()
+        ..FIG5
     };
     assert_eq!(
         Model::<Fx>::new(p).unwrap_err(),
         ParamError::OutOfRange(Param::Epsilon)
     );
     // Fc/Fs = 1e-6 rounds to 0.
-    let p = Params {
-        fc: 1e-6,
-        ..paper()
-    };
+    let p = Params { fc: 1e-6, ..FIG5 };
     assert_eq!(
         Model::<Fx>::new(p).unwrap_err(),
         ParamError::OutOfRange(Param::Fc)
     );
     // Encoder counts coarser than 128·z_max or finer than z_max/2³⁴.
-    let m = Model::<Fx>::new(paper()).unwrap();
+    let m = Model::<Fx>::new(FIG5).unwrap();
     assert!(m.position_scale::<i32>(1.0).is_none());
     assert!(m.position_scale::<i32>(1e-16).is_none());
     assert!(m.position_scale::<i32>(1e-8).is_some());
@@ -181,14 +178,12 @@ fn construction_rejects_what_does_not_fit_naming_the_parameter() {
 /// starting point, and leaves the model unchanged when it rejects a set.
 #[test]
 fn set_params_in_place_equals_new_and_rejects_without_change() {
+    // Fc = Fs = V = z_max = 1 (δ = 1, σ = ε = 0): the unit Coulomb model.
     let unit = Params {
-        fc: 1.0,
         fs: 1.0,
         v_stribeck: 1.0,
-        delta: 1.0,
-        sigma: 0.0,
         z_max: 1.0,
-        epsilon: 0.0,
+        ..FIG5
     };
     assert_eq!(
         format!("{:?}", Model::<Fx>::UNIT_COULOMB),
@@ -220,7 +215,7 @@ fn extreme_samples_saturate_and_never_panic() {
     // σ·V/Fs = 2: the viscous term saturates above 16384·V.
     let p = Params {
         sigma: 3000.0,
-        ..paper()
+        ..FIG5
     };
     let model = Model::<Fx>::new(p).unwrap();
     let scale = model.position_scale::<i32>(1e-8).unwrap();

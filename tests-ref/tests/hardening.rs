@@ -6,35 +6,7 @@ use breakaway::{Model, Params, Presliding, Scalar, Q16};
 use breakaway_reference as reference;
 
 mod common;
-use common::reference_model;
-
-fn params() -> Params {
-    Params {
-        fc: 1.0,
-        fs: 1.5,
-        v_stribeck: 1e-3,
-        delta: 1.3,
-        sigma: 0.2,
-        z_max: 1e-5,
-        epsilon: 0.0,
-    }
-}
-
-/// xorshift64*: a small deterministic generator.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
-    }
-    /// Uniform in [0, n).
-    fn below(&mut self, n: u64) -> u64 {
-        self.next() % n
-    }
-}
+use common::{reference_model, Strokes, LONG_RUN};
 
 /// 10⁸ samples of random motion: strokes of 1 count to 3·z_max with random
 /// speeds and rests, so about half the samples lie in presliding. The
@@ -44,31 +16,17 @@ impl Rng {
 fn hundred_million_samples_stay_finite_bounded_and_accurate() {
     const SAMPLES: u64 = 100_000_000;
     const WINDOW: u64 = 1_000_000;
-    let p = params();
+    let p = LONG_RUN;
     let model = Model::<f32>::new(p).unwrap();
     let judge_model = reference_model(&p);
     let count = 1e-8f32;
     let mut lib = Presliding::<i64>::new(0, count).unwrap();
     let mut closing = Presliding::<i64, f32, 8>::new(0, count).unwrap();
     let mut judge = reference::Presliding::new(0.0);
-    let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
-    let (mut x, mut target, mut step, mut v) = (0i64, 0i64, 1i64, 0.0f32);
     let (mut first, mut last, mut worst_closing_h) = (0.0f64, 0.0f64, 0.0f32);
-    for n in 0..SAMPLES {
-        if x == target {
-            // A new stroke: up to 3·z_max (3000 counts) either way, 1 to 64
-            // counts per sample, or a rest of a few samples.
-            let len = 1 + rng.below(3000) as i64;
-            target = if rng.below(2) == 0 { x + len } else { x - len };
-            step = 1 + rng.below(64) as i64;
-            v = (target - x).signum() as f32 * step as f32 * count / 1e-3;
-        } else {
-            x = if target > x {
-                (x + step).min(target)
-            } else {
-                (x - step).max(target)
-            };
-        }
+    // Strokes up to 3·z_max (3000 counts) either way, 1 to 64 counts per
+    // sample, each started by a rest sample.
+    for (n, (x, v)) in (0..SAMPLES).zip(Strokes::new(count)) {
         let f = lib.update(&model, x, v).unwrap();
         let g = closing.update(&model, x, v).unwrap();
         assert!(
@@ -105,7 +63,7 @@ fn hundred_million_samples_stay_finite_bounded_and_accurate() {
 fn thousand_metres_then_a_two_micrometre_reversal() {
     let p = Params {
         sigma: 0.0,
-        ..params()
+        ..LONG_RUN
     };
     let model = Model::<f32>::new(p).unwrap();
     let fixed = Model::<Q16>::new(p).unwrap();

@@ -108,16 +108,8 @@ pub fn presliding_loop(target: Target) -> Result<String, String> {
         ));
     }
     let count = 1e-8f32;
-    let host_model = breakaway::Model::<f32>::new(breakaway::Params {
-        fc: model.fc as f32,
-        fs: model.fs as f32,
-        v_stribeck: model.v_stribeck as f32,
-        delta: model.delta as f32,
-        sigma: model.sigma as f32,
-        z_max: model.z_max as f32,
-        epsilon: model.epsilon as f32,
-    })
-    .map_err(|e| e.to_string())?;
+    // The parameters the firmware runs (the f32 values of fig5.toml).
+    let host_model = breakaway::Model::<f32>::new(support::FIG5).map_err(|e| e.to_string())?;
     let mut judge = reference::Presliding::new(0.0);
     let mut host =
         breakaway::Presliding::<i64, f32, 8>::new(0, count).map_err(|e| e.to_string())?;
@@ -234,6 +226,11 @@ fn soft_f64_symbols(elf: &std::path::Path) -> Result<Vec<String>, String> {
     }
     Ok(names.into_iter().filter(|name| f64_routine(name)).collect())
 }
+
+/// The test support the firmware examples share (`Strokes` of `long_run`,
+/// the parameters of `compensation_loop`).
+#[path = "../../tests/support/mod.rs"]
+mod support;
 
 /// The loop of the `compensation_fixed` firmware, run here on the host.
 #[path = "../../examples/common/compensation_loop.rs"]
@@ -589,8 +586,8 @@ fn compare_closed_loop(
 }
 
 /// `long_run`: 10⁶ samples of random motion on the MCU. The host replays the
-/// example's generator (xorshift64*, same seed and rules) through the f64
-/// reference and compares every printed sample, the last one included.
+/// example's motion (`tests/support`'s `Strokes`, the same code) through the
+/// f64 reference and compares every printed sample, the last one included.
 pub fn long_run(target: Target) -> Result<String, String> {
     let output = qemu::run_example("long_run", target)?;
     let rows = records(&output, "s")?;
@@ -604,27 +601,9 @@ pub fn long_run(target: Target) -> Result<String, String> {
     (model.delta, model.sigma) = (1.3, 0.2);
     let count = 1e-8f32;
     let mut judge = reference::Presliding::new(0.0);
-    let mut state: u64 = 0x9e37_79b9_7f4a_7c15;
-    let mut below = |n: u64| {
-        state ^= state >> 12;
-        state ^= state << 25;
-        state ^= state >> 27;
-        state.wrapping_mul(0x2545_f491_4f6c_dd1d) % n
-    };
-    let (mut x, mut target_x, mut step, mut v) = (0i64, 0i64, 1i64, 0.0f32);
     let mut rows = rows.iter().peekable();
     let (mut worst, mut compared) = (0.0f64, 0usize);
-    for n in 0..1_000_000u64 {
-        if x == target_x {
-            let len = 1 + below(3000) as i64;
-            target_x = if below(2) == 0 { x + len } else { x - len };
-            step = 1 + below(64) as i64;
-            v = (target_x - x).signum() as f32 * step as f32 * count / 1e-3;
-        } else if target_x > x {
-            x = (x + step).min(target_x);
-        } else {
-            x = (x - step).max(target_x);
-        }
+    for (n, (x, v)) in (0..1_000_000u64).zip(support::Strokes::new(count)) {
         let want = judge.update(&model, x as f64 * count as f64, v as f64);
         if let Some((line, fields)) =
             rows.next_if(|(_, f)| f.get(1) == Some(&n.to_string().as_str()))

@@ -15,7 +15,11 @@
 //! not tuned on a sweep's seeds.
 
 use crate::{cargo, root, run};
-use serde_json::{json, Value};
+use indicatif::{ProgressBar, ProgressStyle};
+use serde::de::DeserializeOwned;
+use serde::{Deserialize, Serialize};
+use std::collections::HashMap;
+use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -106,30 +110,51 @@ impl Scored {
     }
 }
 
-fn strings(v: &Value) -> Vec<String> {
-    v.as_array()
-        .map(|a| {
-            a.iter()
-                .filter_map(|s| s.as_str().map(str::to_string))
-                .collect()
-        })
-        .unwrap_or_default()
+/// What `truth.json` of the generator says about a record (the fields the
+/// score reads; a missing field is empty).
+#[derive(Debug, Default, Deserialize)]
+#[serde(default)]
+pub struct Truth {
+    /// Hidden effects.
+    pub hidden: Vec<String>,
+    /// Effects a correct diagnosis may add.
+    pub accept_extra: Vec<String>,
+    /// Visibility per hidden effect (`null` when not finite).
+    pub visibility: HashMap<String, Option<f64>>,
+    /// Plant of the generator (`model` when absent).
+    pub plant: Option<String>,
+}
+
+/// What the score reads of `breakaway-lab diagnose --json`.
+#[derive(Debug, Deserialize)]
+pub struct Report {
+    /// Effects named, in order.
+    #[serde(default)]
+    pub effects_added: Vec<String>,
+    /// Gap before [N] (`null` when not finite).
+    pub rms_before: Option<f64>,
+    /// Gap after [N].
+    pub rms_after: Option<f64>,
 }
 
 /// Scores the report `report` against the truth `truth` (module doc).
-pub fn score(name: &str, truth: &Value, report: Result<Value, String>) -> Scored {
-    let hidden = strings(&truth["hidden"]);
-    let extra = strings(&truth["accept_extra"]);
+pub fn score(name: &str, truth: Truth, report: Result<Report, String>) -> Scored {
+    let Truth {
+        hidden,
+        accept_extra: extra,
+        visibility: seen,
+        plant,
+    } = truth;
     let visibility = hidden
         .iter()
         .map(|h| {
             (
                 h.clone(),
-                truth["visibility"][h].as_f64().unwrap_or(f64::NAN),
+                seen.get(h).copied().flatten().unwrap_or(f64::NAN),
             )
         })
         .collect();
-    let plant = truth["plant"].as_str().unwrap_or("model").to_string();
+    let plant = plant.unwrap_or_else(|| "model".into());
     match report {
         Err(e) => Scored {
             name: name.into(),
@@ -142,14 +167,14 @@ pub fn score(name: &str, truth: &Value, report: Result<Value, String>) -> Scored
             failed: Some(e),
         },
         Ok(rep) => {
-            let named = strings(&rep["effects_added"]);
+            let named = rep.effects_added;
             let exact = hidden.iter().all(|h| named.contains(h))
                 && named
                     .iter()
                     .all(|n| hidden.contains(n) || extra.contains(n));
             let shrink = (!hidden.is_empty()).then(|| {
-                let b = rep["rms_before"].as_f64().unwrap_or(f64::NAN);
-                let a = rep["rms_after"].as_f64().unwrap_or(f64::NAN);
+                let b = rep.rms_before.unwrap_or(f64::NAN);
+                let a = rep.rms_after.unwrap_or(f64::NAN);
                 1.0 - a / b
             });
             Scored {
@@ -166,7 +191,7 @@ pub fn score(name: &str, truth: &Value, report: Result<Value, String>) -> Scored
     }
 }
 
-fn read_json(path: &Path) -> Result<Value, String> {
+fn read_json<T: DeserializeOwned>(path: &Path) -> Result<T, String> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
     serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))
@@ -212,12 +237,13 @@ pub fn sweep(o: &Options) -> Result<Vec<Scored>, String> {
     let total = dirs.len();
     let done = AtomicUsize::new(0);
     let lab = bin.join("breakaway-lab");
+    let bar = progress_bar(total);
     let one = |dir: &PathBuf| -> Scored {
         let name = dir
             .file_name()
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_default();
-        let truth = read_json(&dir.join("truth.json")).unwrap_or(Value::Null);
+        let truth = read_json(&dir.join("truth.json")).unwrap_or_default();
         let report_path = dir.join("report.json");
         let status = Command::new(&lab)
             .arg("diagnose")
@@ -230,14 +256,20 @@ pub fn sweep(o: &Options) -> Result<Vec<Scored>, String> {
             Ok(out) => Err(String::from_utf8_lossy(&out.stderr).trim().to_string()),
             Err(e) => Err(format!("cannot run breakaway-lab: {e}")),
         };
-        let s = score(&name, &truth, report);
+        let s = score(&name, truth, report);
         let k = done.fetch_add(1, Ordering::Relaxed) + 1;
-        eprintln!(
+        let line = format!(
             "sweep [{k}/{total}] {name}: hidden [{}] named [{}]{}",
             s.hidden.join(", "),
             s.named.join(", "),
             if s.success() { "" } else { "  <- miss" }
         );
+        if bar.is_hidden() {
+            eprintln!("{line}");
+        } else {
+            bar.println(line);
+            bar.inc(1);
+        }
         s
     };
     let mut scored: Vec<Scored> = std::thread::scope(|sc| {
@@ -252,8 +284,22 @@ pub fn sweep(o: &Options) -> Result<Vec<Scored>, String> {
             .flat_map(|h| h.join().unwrap_or_default())
             .collect()
     });
+    bar.finish_and_clear();
     scored.sort_by(|a, b| a.name.cmp(&b.name));
     Ok(scored)
+}
+
+/// A progress bar under the per-record lines on a terminal; hidden
+/// elsewhere, where the lines alone are printed.
+fn progress_bar(total: usize) -> ProgressBar {
+    if !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::new(total as u64);
+    if let Ok(style) = ProgressStyle::with_template("sweep {bar:40} {pos}/{len} [{elapsed}]") {
+        bar.set_style(style);
+    }
+    bar
 }
 
 fn median(mut v: Vec<f64>) -> f64 {
@@ -265,15 +311,115 @@ fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
+/// The summary of a sweep (printed, and written by `--json`). Every object
+/// keeps its keys in alphabetical order, as the summary has always been
+/// written.
+#[derive(Debug, Serialize)]
+pub struct Summary {
+    /// Hidden effects at ≥ 20× the noise, and how many of them were named.
+    pub detection_above_20x: Detection,
+    /// Records `diagnose` failed on.
+    pub failed: Vec<Failed>,
+    /// Effect-free records that named an effect.
+    pub false_positives: usize,
+    /// Median gap shrink of the records with hidden effects (null if none).
+    pub median_shrink: f64,
+    /// Records not named exactly with the gap halved.
+    pub misses: Vec<Miss>,
+    /// Records named exactly.
+    pub named_exactly: usize,
+    /// Records named exactly with the gap halved.
+    pub named_exactly_and_gap_halved: usize,
+    /// Records without hidden effects.
+    pub null_records: usize,
+    /// Detection per hidden effect.
+    pub per_effect: Vec<PerEffect>,
+    /// Rates per plant.
+    pub per_plant: Vec<PerPlant>,
+    /// Records scored.
+    pub records: usize,
+}
+
+/// Hidden effects above a visibility, and how many were named.
+#[derive(Debug, Serialize)]
+pub struct Detection {
+    /// Named.
+    pub detected: usize,
+    /// Hidden.
+    pub effects: usize,
+}
+
+/// A record `diagnose` failed on.
+#[derive(Debug, Serialize)]
+pub struct Failed {
+    /// The error message.
+    pub error: String,
+    /// Record name.
+    pub record: String,
+}
+
+/// A record not named exactly with the gap halved.
+#[derive(Debug, Serialize)]
+pub struct Miss {
+    /// Hidden effects.
+    pub hidden: Vec<String>,
+    /// Named effects.
+    pub named: Vec<String>,
+    /// Record name.
+    pub record: String,
+    /// Gap shrink.
+    pub shrink: Option<f64>,
+}
+
+/// Detection of one hidden effect.
+#[derive(Debug, Serialize)]
+pub struct PerEffect {
+    /// Per visibility bin.
+    pub by_visibility: Vec<Bin>,
+    /// Records that named it.
+    pub detected: usize,
+    /// Effect name.
+    pub effect: String,
+    /// Records with it named exactly.
+    pub exact: usize,
+    /// Median gap shrink of the records with it (null if none).
+    pub median_shrink: f64,
+    /// Records with it hidden.
+    pub records: usize,
+}
+
+/// Detection within a visibility bin.
+#[derive(Debug, Serialize)]
+pub struct Bin {
+    /// Records that named the effect.
+    pub detected: usize,
+    /// Records with the effect in the bin.
+    pub records: usize,
+    /// The bin, `lo-hi` (effect RMS / noise std).
+    pub visibility: String,
+}
+
+/// Rates of one plant.
+#[derive(Debug, Serialize)]
+pub struct PerPlant {
+    /// Named exactly.
+    pub exact: usize,
+    /// Effect-free records that named an effect.
+    pub false_positives: usize,
+    /// Effect-free records.
+    pub nulls: usize,
+    /// Plant name.
+    pub plant: String,
+    /// Records.
+    pub records: usize,
+    /// Named exactly with the gap halved.
+    pub success: usize,
+}
+
 /// The summary: overall rates, false positives, per effect detection
 /// against visibility, gap shrink, per plant.
-pub fn summary(scored: &[Scored]) -> Value {
-    let n = scored.len();
-    let exact = scored.iter().filter(|s| s.exact).count();
-    let success = scored.iter().filter(|s| s.success()).count();
+pub fn summary(scored: &[Scored]) -> Summary {
     let nulls: Vec<&Scored> = scored.iter().filter(|s| s.hidden.is_empty()).collect();
-    let fp = nulls.iter().filter(|s| !s.named.is_empty()).count();
-    let shrinks: Vec<f64> = scored.iter().filter_map(|s| s.shrink).collect();
     let bins = [
         (0.0, 10.0),
         (10.0, 20.0),
@@ -283,38 +429,38 @@ pub fn summary(scored: &[Scored]) -> Value {
     let mut effects: Vec<String> = scored.iter().flat_map(|s| s.hidden.clone()).collect();
     effects.sort();
     effects.dedup();
-    let per_effect: Vec<Value> = effects
-        .iter()
+    let per_effect = effects
+        .into_iter()
         .map(|e| {
             let with: Vec<(&Scored, f64)> = scored
                 .iter()
                 .filter_map(|s| {
                     s.visibility
                         .iter()
-                        .find(|(n, _)| n == e)
+                        .find(|(n, _)| *n == e)
                         .map(|(_, v)| (s, *v))
                 })
                 .collect();
-            let by_bin: Vec<Value> = bins
+            let by_visibility = bins
                 .iter()
                 .map(|(lo, hi)| {
                     let inb: Vec<&(&Scored, f64)> =
                         with.iter().filter(|(_, v)| *v >= *lo && *v < *hi).collect();
-                    json!({
-                        "visibility": format!("{lo}-{hi}"),
-                        "records": inb.len(),
-                        "detected": inb.iter().filter(|(s, _)| s.named.contains(e)).count(),
-                    })
+                    Bin {
+                        detected: inb.iter().filter(|(s, _)| s.named.contains(&e)).count(),
+                        records: inb.len(),
+                        visibility: format!("{lo}-{hi}"),
+                    }
                 })
                 .collect();
-            json!({
-                "effect": e,
-                "records": with.len(),
-                "detected": with.iter().filter(|(s, _)| s.named.contains(e)).count(),
-                "exact": with.iter().filter(|(s, _)| s.exact).count(),
-                "median_shrink": median(with.iter().filter_map(|(s, _)| s.shrink).collect()),
-                "by_visibility": by_bin,
-            })
+            PerEffect {
+                by_visibility,
+                detected: with.iter().filter(|(s, _)| s.named.contains(&e)).count(),
+                exact: with.iter().filter(|(s, _)| s.exact).count(),
+                median_shrink: median(with.iter().filter_map(|(s, _)| s.shrink).collect()),
+                records: with.len(),
+                effect: e,
+            }
         })
         .collect();
     let above20: Vec<bool> = scored
@@ -330,38 +476,56 @@ pub fn summary(scored: &[Scored]) -> Value {
     let mut plants: Vec<String> = scored.iter().map(|s| s.plant.clone()).collect();
     plants.sort();
     plants.dedup();
-    let per_plant: Vec<Value> = plants
-        .iter()
-        .map(|p| {
-            let of: Vec<&Scored> = scored.iter().filter(|s| &s.plant == p).collect();
-            json!({
-                "plant": p,
-                "records": of.len(),
-                "exact": of.iter().filter(|s| s.exact).count(),
-                "success": of.iter().filter(|s| s.success()).count(),
-                "false_positives": of.iter().filter(|s| s.hidden.is_empty() && !s.named.is_empty()).count(),
-                "nulls": of.iter().filter(|s| s.hidden.is_empty()).count(),
-            })
+    let per_plant = plants
+        .into_iter()
+        .map(|plant| {
+            let of: Vec<&Scored> = scored.iter().filter(|s| s.plant == plant).collect();
+            PerPlant {
+                exact: of.iter().filter(|s| s.exact).count(),
+                false_positives: of
+                    .iter()
+                    .filter(|s| s.hidden.is_empty() && !s.named.is_empty())
+                    .count(),
+                nulls: of.iter().filter(|s| s.hidden.is_empty()).count(),
+                records: of.len(),
+                success: of.iter().filter(|s| s.success()).count(),
+                plant,
+            }
         })
         .collect();
-    json!({
-        "records": n,
-        "named_exactly": exact,
-        "named_exactly_and_gap_halved": success,
-        "null_records": nulls.len(),
-        "false_positives": fp,
-        "median_shrink": median(shrinks),
-        "detection_above_20x": {
-            "effects": above20.len(),
-            "detected": above20.iter().filter(|d| **d).count(),
+    Summary {
+        detection_above_20x: Detection {
+            detected: above20.iter().filter(|d| **d).count(),
+            effects: above20.len(),
         },
-        "failed": scored.iter().filter(|s| s.failed.is_some()).map(|s| json!({"record": s.name, "error": s.failed})).collect::<Vec<_>>(),
-        "per_effect": per_effect,
-        "per_plant": per_plant,
-        "misses": scored.iter().filter(|s| !s.success()).map(|s| json!({
-            "record": s.name, "hidden": s.hidden, "named": s.named, "shrink": s.shrink,
-        })).collect::<Vec<_>>(),
-    })
+        failed: scored
+            .iter()
+            .filter_map(|s| {
+                s.failed.as_ref().map(|error| Failed {
+                    error: error.clone(),
+                    record: s.name.clone(),
+                })
+            })
+            .collect(),
+        false_positives: nulls.iter().filter(|s| !s.named.is_empty()).count(),
+        median_shrink: median(scored.iter().filter_map(|s| s.shrink).collect()),
+        misses: scored
+            .iter()
+            .filter(|s| !s.success())
+            .map(|s| Miss {
+                hidden: s.hidden.clone(),
+                named: s.named.clone(),
+                record: s.name.clone(),
+                shrink: s.shrink,
+            })
+            .collect(),
+        named_exactly: scored.iter().filter(|s| s.exact).count(),
+        named_exactly_and_gap_halved: scored.iter().filter(|s| s.success()).count(),
+        null_records: nulls.len(),
+        per_effect,
+        per_plant,
+        records: scored.len(),
+    }
 }
 
 /// `cargo xtask sweep`.
@@ -383,10 +547,10 @@ pub const SMOKE_SEEDS: (u64, u64) = (7000, 7012);
 /// Least records of the subset named exactly (5 of 12 when fixed, 4 after
 /// the `Prepared::walk` mend, 6 with stops and the floor-relative gain;
 /// one record of margin).
-pub const SMOKE_MIN_EXACT: u64 = 5;
+pub const SMOKE_MIN_EXACT: usize = 5;
 /// Most false positives on the subset's 3 effect-free records (1 when
 /// fixed and still: `frictional_lag` on an open-loop ramp record).
-pub const SMOKE_MAX_FALSE_POSITIVES: u64 = 1;
+pub const SMOKE_MAX_FALSE_POSITIVES: usize = 1;
 
 /// The subset of `cargo xtask test`: every record diagnosed without an
 /// error, and no regression below the figures measured when the subset
@@ -406,12 +570,12 @@ pub fn smoke() -> Result<(), String> {
         "sweep subset (seeds {}..{}, independent generator): {} records, {} named exactly, {} with the gap halved, {} false positives on {} effect-free records, median shrink {:.2}",
         o.from,
         o.to,
-        s["records"],
-        s["named_exactly"],
-        s["named_exactly_and_gap_halved"],
-        s["false_positives"],
-        s["null_records"],
-        s["median_shrink"].as_f64().unwrap_or(f64::NAN)
+        s.records,
+        s.named_exactly,
+        s.named_exactly_and_gap_halved,
+        s.false_positives,
+        s.null_records,
+        s.median_shrink
     );
     if scored.is_empty() {
         return Err("sweep subset: no record was generated".into());
@@ -428,13 +592,218 @@ pub fn smoke() -> Result<(), String> {
     // effect-free records when the subset was fixed (4 of 12 after the
     // `Prepared::walk` mend, 6 of 12 with stops and the floor-relative
     // gain).
-    let exact = s["named_exactly"].as_u64().unwrap_or(0);
-    let fp = s["false_positives"].as_u64().unwrap_or(u64::MAX);
+    let (exact, fp) = (s.named_exactly, s.false_positives);
     if exact < SMOKE_MIN_EXACT || fp > SMOKE_MAX_FALSE_POSITIVES {
         return Err(format!(
             "sweep subset regressed: {exact} named exactly (at least {SMOKE_MIN_EXACT}), {fp} false positives (at most {SMOKE_MAX_FALSE_POSITIVES}); misses: {}",
-            s["misses"]
+            serde_json::to_string(&s.misses).unwrap_or_default()
         ));
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn scored(
+        name: &str,
+        plant: &str,
+        hidden: &[(&str, f64)],
+        named: &[&str],
+        shrink: Option<f64>,
+    ) -> Scored {
+        let hidden_names: Vec<String> = hidden.iter().map(|(h, _)| h.to_string()).collect();
+        let named: Vec<String> = named.iter().map(|n| n.to_string()).collect();
+        Scored {
+            name: name.into(),
+            plant: plant.into(),
+            exact: hidden_names.iter().all(|h| named.contains(h))
+                && named.iter().all(|n| hidden_names.contains(n)),
+            hidden: hidden_names,
+            named,
+            visibility: hidden.iter().map(|(h, v)| (h.to_string(), *v)).collect(),
+            shrink,
+            failed: None,
+        }
+    }
+
+    /// Four records: the summary's text, key for key (a regression pin of
+    /// the JSON users read).
+    #[test]
+    fn summary_json_text() {
+        let mut failed = scored("s4", "lugre", &[("drift", 30.0)], &[], None);
+        failed.failed = Some("diagnose failed".into());
+        let records = [
+            scored("s1", "model", &[("offset", 25.0)], &["offset"], Some(0.75)),
+            scored("s2", "model", &[], &["viscous"], None),
+            scored(
+                "s3",
+                "lugre",
+                &[("offset", 5.0), ("drift", 12.0)],
+                &["offset"],
+                Some(0.2),
+            ),
+            failed,
+        ];
+        let text = serde_json::to_string_pretty(&summary(&records)).unwrap();
+        assert_eq!(text, EXPECTED_SUMMARY);
+        // No shrink at all: the median is null, as before.
+        let empty = serde_json::to_string(&summary(&[])).unwrap();
+        assert!(empty.contains(r#""median_shrink":null"#), "{empty}");
+    }
+
+    const EXPECTED_SUMMARY: &str = r#"{
+  "detection_above_20x": {
+    "detected": 1,
+    "effects": 2
+  },
+  "failed": [
+    {
+      "error": "diagnose failed",
+      "record": "s4"
+    }
+  ],
+  "false_positives": 1,
+  "median_shrink": 0.75,
+  "misses": [
+    {
+      "hidden": [],
+      "named": [
+        "viscous"
+      ],
+      "record": "s2",
+      "shrink": null
+    },
+    {
+      "hidden": [
+        "offset",
+        "drift"
+      ],
+      "named": [
+        "offset"
+      ],
+      "record": "s3",
+      "shrink": 0.2
+    },
+    {
+      "hidden": [
+        "drift"
+      ],
+      "named": [],
+      "record": "s4",
+      "shrink": null
+    }
+  ],
+  "named_exactly": 1,
+  "named_exactly_and_gap_halved": 1,
+  "null_records": 1,
+  "per_effect": [
+    {
+      "by_visibility": [
+        {
+          "detected": 0,
+          "records": 0,
+          "visibility": "0-10"
+        },
+        {
+          "detected": 0,
+          "records": 1,
+          "visibility": "10-20"
+        },
+        {
+          "detected": 0,
+          "records": 1,
+          "visibility": "20-50"
+        },
+        {
+          "detected": 0,
+          "records": 0,
+          "visibility": "50-inf"
+        }
+      ],
+      "detected": 0,
+      "effect": "drift",
+      "exact": 0,
+      "median_shrink": 0.2,
+      "records": 2
+    },
+    {
+      "by_visibility": [
+        {
+          "detected": 1,
+          "records": 1,
+          "visibility": "0-10"
+        },
+        {
+          "detected": 0,
+          "records": 0,
+          "visibility": "10-20"
+        },
+        {
+          "detected": 1,
+          "records": 1,
+          "visibility": "20-50"
+        },
+        {
+          "detected": 0,
+          "records": 0,
+          "visibility": "50-inf"
+        }
+      ],
+      "detected": 2,
+      "effect": "offset",
+      "exact": 1,
+      "median_shrink": 0.75,
+      "records": 2
+    }
+  ],
+  "per_plant": [
+    {
+      "exact": 0,
+      "false_positives": 0,
+      "nulls": 0,
+      "plant": "lugre",
+      "records": 2,
+      "success": 0
+    },
+    {
+      "exact": 1,
+      "false_positives": 1,
+      "nulls": 1,
+      "plant": "model",
+      "records": 2,
+      "success": 1
+    }
+  ],
+  "records": 4
+}"#;
+
+    #[test]
+    fn scores_a_truth_file_against_a_report() {
+        let truth: Truth = serde_json::from_str(
+            r#"{"name": "s1", "seed": 1, "plant": "lugre", "hidden": ["offset"],
+                "accept_extra": ["frictional_lag"], "visibility": {"offset": 25.0},
+                "targets": {"offset": 0.1}}"#,
+        )
+        .unwrap();
+        let report: Report = serde_json::from_str(
+            r#"{"effects_added": ["offset", "frictional_lag"], "rms_before": 1.0,
+                "rms_after": 0.25, "model": {"fc": 1.0}}"#,
+        )
+        .unwrap();
+        let s = score("s1", truth, Ok(report));
+        assert!(s.exact && s.success());
+        assert_eq!(s.plant, "lugre");
+        assert_eq!(s.visibility, vec![("offset".to_string(), 25.0)]);
+        assert_eq!(s.shrink, Some(0.75));
+        // An unreadable truth file scores as a record without hidden
+        // effects on the model plant; a null rms is not finite.
+        let report: Report =
+            serde_json::from_str(r#"{"effects_added": [], "rms_before": null}"#).unwrap();
+        let s = score("s2", Truth::default(), Ok(report));
+        assert_eq!((s.plant.as_str(), s.exact, s.shrink), ("model", true, None));
+        let s = score("s3", Truth::default(), Err("failed".into()));
+        assert_eq!(s.failed.as_deref(), Some("failed"));
+    }
 }

@@ -1,6 +1,8 @@
 //! Shared pieces of the tests that judge the library against the f64
-//! reference: the same parameter set in the reference's terms, randomized
-//! parameter sets and trajectories, and a deterministic proptest runner.
+//! reference: the library's test support (`tests/support`: parameter sets,
+//! generator, stroke motion), the parameters in the reference's terms,
+//! randomized parameter sets and trajectories, a deterministic proptest
+//! runner, and a plant on the reference friction.
 #![allow(dead_code)] // each test file uses its own subset
 
 use std::ops::Range;
@@ -10,19 +12,10 @@ use breakaway_reference as reference;
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
 
-/// The paper's Fig. 5 setting (MODEL.md §4): Fc = 1 N, Fs = 1.5 N, σ = 0,
-/// z_max = 10 µm, with V = 1 mm/s and δ = 1.
-pub fn paper() -> Params {
-    Params {
-        fc: 1.0,
-        fs: 1.5,
-        v_stribeck: 1e-3,
-        delta: 1.0,
-        sigma: 0.0,
-        z_max: 1e-5,
-        epsilon: 0.0,
-    }
-}
+#[path = "../../../tests/support/mod.rs"]
+mod support;
+#[allow(unused_imports)] // each test file uses its own subset
+pub use support::{Rng, Strokes, FIG5, LONG_RUN};
 
 /// The library's parameters as a reference model (m = 1 kg, no effects).
 pub fn reference_model(p: &Params) -> reference::Model {
@@ -122,4 +115,46 @@ pub fn runner(cases: u32) -> TestRunner {
         },
         TestRng::deterministic_rng(RngAlgorithm::ChaCha),
     )
+}
+
+/// m·ẍ = u − F with F from the reference `Friction`, integrated by
+/// semi-implicit Euler with sub-steps far below the presliding period.
+pub struct Plant {
+    pub model: reference::Model,
+    pub friction: reference::Friction,
+    pub t: f64,
+    pub x: f64,
+    pub v: f64,
+    /// Mean friction over the last period [N].
+    pub mean_friction: f64,
+}
+
+impl Plant {
+    pub const SUBSTEPS: usize = 200;
+
+    pub fn new(model: reference::Model) -> Self {
+        let friction = reference::Friction::new(&model, 0.0, 0.0, 0.0);
+        Self {
+            model,
+            friction,
+            t: 0.0,
+            x: 0.0,
+            v: 0.0,
+            mean_friction: 0.0,
+        }
+    }
+
+    /// Holds `u` [N] for `period` [s].
+    pub fn step(&mut self, u: f64, period: f64) {
+        let h = period / Self::SUBSTEPS as f64;
+        let mut sum = 0.0;
+        for _ in 0..Self::SUBSTEPS {
+            let f = self.friction.update(&self.model, self.t, self.x, self.v);
+            sum += f;
+            self.v += h * (u - f) / self.model.mass;
+            self.x += h * self.v;
+            self.t += h;
+        }
+        self.mean_friction = sum / Self::SUBSTEPS as f64;
+    }
 }

@@ -1,0 +1,99 @@
+//! The one error of the per-sample path: a sample that cannot be used.
+//!
+//! See [`SampleError`].
+
+use core::fmt;
+
+/// Why a sample was rejected: the signal that is NaN or infinite, or (for
+/// `hal::PwmForce`) the driver's failure.
+///
+/// Every `update` of the library ([`Presliding`](crate::Presliding), the
+/// [`compensation`](crate::compensation) blocks) and
+/// `hal::PwmForce::write` (feature `hal`) check their inputs for NaN and ±∞
+/// and return this error, naming the signal at fault; the state (or the
+/// output) is then left as it was, and the next finite sample proceeds
+/// normally. Parameters are checked once, when the blocks are built
+/// ([`ParamError`](crate::ParamError),
+/// [`ConfigError`](crate::compensation::ConfigError)), so nothing else can go
+/// wrong in a control period. One type for the whole loop lets a control
+/// function use `?` on every block:
+///
+/// ```
+/// use breakaway::compensation::{DisturbanceObserver, ObserverConfig};
+/// use breakaway::{Model, Params, Presliding, SampleError};
+///
+/// fn period(
+///     model: &Model<f32>,
+///     axis: &mut Presliding<i64>,
+///     observer: &mut DisturbanceObserver,
+///     (count, v, u): (i64, f32, f32),
+/// ) -> Result<f32, SampleError> {
+///     let f = axis.update(model, count, v)?; // friction [N]
+///     let r = observer.update(u, v, f)?; // what the model missed [N]
+///     Ok(f + r)
+/// }
+///
+/// let model = Model::<f32>::new(Params { fc: 1.0, fs: 1.5, v_stribeck: 1e-3,
+///     delta: 1.0, sigma: 0.0, z_max: 1e-5, epsilon: 0.0 })?;
+/// let mut axis = Presliding::<i64>::new(0, 1e-8).unwrap();
+/// let config = ObserverConfig { mass: 2.0, bandwidth: 100.0, period: 1e-3 };
+/// let mut observer = DisturbanceObserver::new(config).unwrap();
+/// assert!(period(&model, &mut axis, &mut observer, (100, 1e-4, 0.5)).is_ok());
+/// let e = period(&model, &mut axis, &mut observer, (100, f32::NAN, 0.5));
+/// assert_eq!(e, Err(SampleError::Velocity));
+/// assert_eq!(e.unwrap_err().to_string(), "velocity sample is not finite");
+/// # Ok::<(), breakaway::ParamError>(())
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum SampleError {
+    /// The position sample is NaN or infinite.
+    Position,
+    /// The velocity (sample or estimate) is NaN or infinite.
+    Velocity,
+    /// A force (from the model or the feedforward, or the force to write to
+    /// the output) is NaN or infinite.
+    Force,
+    /// The force command u is NaN or infinite.
+    Command,
+    /// The PWM driver refused the duty cycle (feature `hal`), as the
+    /// driver's [`embedded_hal::pwm::ErrorKind`]. The duty was computed; the
+    /// output may not have changed.
+    #[cfg(feature = "hal")]
+    #[cfg_attr(docsrs, doc(cfg(feature = "hal")))]
+    Pwm(embedded_hal::pwm::ErrorKind),
+}
+
+impl SampleError {
+    /// What went wrong, in a few words (the [`Display`](fmt::Display) text
+    /// without the driver's detail).
+    pub const fn message(&self) -> &'static str {
+        match self {
+            SampleError::Position => "position sample is not finite",
+            SampleError::Velocity => "velocity sample is not finite",
+            SampleError::Force => "force is not finite",
+            SampleError::Command => "force command is not finite",
+            #[cfg(feature = "hal")]
+            SampleError::Pwm(_) => "PWM driver error",
+        }
+    }
+}
+
+impl fmt::Display for SampleError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        #[cfg(feature = "hal")]
+        if let SampleError::Pwm(kind) = self {
+            return write!(f, "{}: {kind}", self.message());
+        }
+        f.write_str(self.message())
+    }
+}
+
+impl core::error::Error for SampleError {}
+
+#[cfg(feature = "defmt")]
+impl defmt::Format for SampleError {
+    fn format(&self, f: defmt::Formatter<'_>) {
+        defmt::write!(f, "{=str}", self.message());
+    }
+}
