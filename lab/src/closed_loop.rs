@@ -40,8 +40,8 @@
 //! `model` plant with the same constants in f32 on the MCU.
 
 use breakaway::compensation::{
-    DisturbanceObserver, FeedforwardConfig, ObserverConfig, StictionAdaptation, StictionConfig,
-    VelocityConfig, VelocityEstimator,
+    AdaptationConfig, DisturbanceObserver, FeedforwardConfig, LevelAdaptation, ObserverConfig,
+    StictionAdaptation, StictionConfig, VelocityConfig, VelocityEstimator,
 };
 use breakaway_reference as reference;
 
@@ -368,6 +368,14 @@ pub struct Setup {
     pub observer_bandwidth: f64,
     /// Bandwidth ω_e [rad/s] of the velocity estimator, > 0.
     pub velocity_bandwidth: f64,
+    /// Shift [counts], 0 ≤ P < 1, of the encoder's zero: the count is
+    /// ⌊x/q + P⌋, read as (n + ½ − P)·q (the same unbiased reading, the
+    /// count boundaries moved by P·q).
+    pub count_phase: f64,
+    /// The adaptive row adapts the single level scale θ
+    /// ([`LevelAdaptation`]) instead of the split Coulomb and stiction
+    /// scales ([`StictionAdaptation`]), for comparison.
+    pub single_scale: bool,
 }
 
 impl Setup {
@@ -379,6 +387,8 @@ impl Setup {
             force_noise: 0.0,
             observer_bandwidth: OBSERVER_BANDWIDTH,
             velocity_bandwidth: VELOCITY_BANDWIDTH,
+            count_phase: 0.0,
+            single_scale: false,
         }
     }
 
@@ -406,6 +416,12 @@ impl Setup {
                 self.velocity_bandwidth
             ));
         }
+        if !(ok(self.count_phase, true) && self.count_phase < 1.0) {
+            return Err(format!(
+                "count phase {} counts: must be in [0, 1)",
+                self.count_phase
+            ));
+        }
         Ok(())
     }
 }
@@ -417,6 +433,7 @@ impl Setup {
 /// for q = 0, the plant's own position and velocity.
 struct Measurement {
     q: f64,
+    phase: f64,
     estimator: Option<VelocityEstimator<i64>>,
 }
 
@@ -432,7 +449,11 @@ impl Measurement {
         } else {
             None
         };
-        Ok(Self { q, estimator })
+        Ok(Self {
+            q,
+            phase: setup.count_phase,
+            estimator,
+        })
     }
 
     /// (position [m], velocity [m/s]) as the controller sees them.
@@ -440,9 +461,9 @@ impl Measurement {
         match self.estimator.as_mut() {
             None => Ok((x, v)),
             Some(estimator) => {
-                let count = (x / self.q).floor() as i64;
+                let count = (x / self.q + self.phase).floor() as i64;
                 let v = estimator.update(count).map_err(|e| e.to_string())?;
-                Ok(((count as f64 + 0.5) * self.q, f64::from(v)))
+                Ok(((count as f64 + 0.5 - self.phase) * self.q, f64::from(v)))
             }
         }
     }
@@ -502,9 +523,18 @@ pub fn run(
     let mut ff =
         breakaway::compensation::Feedforward::<f32>::new(FeedforwardConfig::default(), 0.0, 1.0)
             .map_err(|e| err(&e))?;
-    if compensator.adaptation {
+    let split = compensator.adaptation && !setup.single_scale;
+    if split {
         ff = ff.with_split_levels();
     }
+    let mut single = LevelAdaptation::new(AdaptationConfig {
+        rate: ADAPTATION_RATE as f32,
+        min_scale: 0.5,
+        max_scale: 2.0,
+        min_speed: params.v_stribeck,
+        period: PERIOD as f32,
+    })
+    .map_err(|e| err(&e))?;
     let mut adaptation = StictionAdaptation::new(StictionConfig {
         rate: ADAPTATION_RATE as f32,
         reversal_gain: REVERSAL_GAIN as f32,
@@ -558,12 +588,17 @@ pub fn run(
             let r = observer
                 .update(u as f32, v_m as f32, u_ff)
                 .map_err(|e| err(&e))?;
-            if compensator.adaptation {
+            if split {
                 // Regressors of the period just ended: `ff` is updated below.
                 let (coulomb, stiction) = adaptation
                     .update(r, &ff, v_ref as f32)
                     .map_err(|e| err(&e))?;
                 ff.set_level_scales(coulomb, stiction);
+            } else if compensator.adaptation {
+                let theta = single
+                    .update(r, ff.dry(), v_ref as f32, ff.is_sliding())
+                    .map_err(|e| err(&e))?;
+                ff.set_level_scale(theta);
             }
             r
         } else {
@@ -886,6 +921,8 @@ pub fn command(
         force_noise: args.force_noise,
         observer_bandwidth: args.observer_bandwidth,
         velocity_bandwidth: args.velocity_bandwidth,
+        count_phase: args.count_phase,
+        single_scale: args.single_scale,
     };
     setup.check().map_err(Error::Usage)?;
     let rows = benchmark(&setup).map_err(Error::Runtime)?;
@@ -949,6 +986,13 @@ mod tests {
                     ..quiet
                 },
                 "velocity bandwidth",
+            ),
+            (
+                Setup {
+                    count_phase: 1.0,
+                    ..quiet
+                },
+                "count phase",
             ),
         ] {
             let e = run(PlantKind::Model, c, Drift::None, &setup).unwrap_err();

@@ -41,9 +41,10 @@
 //!   effective stiction level of the motion seen, not the static Fs (on the
 //!   benchmark's LuGre plant, Fs − Fc = 0.5 N static, θ_s settles near 0.3).
 //! - A change of the presliding distance z_max is not estimated.
-//! - In Q16 the window sums are weighted by the filter step α and saturate
-//!   at 32768 (a window of about 32768/(α·|r·Q[H]|) samples); the step
-//!   γ·T·r/Q[H_c] is rounded to 2⁻¹⁶ as in `LevelAdaptation`.
+//! - In Q16 (forces in units of Fs) the window sums saturate at 32768, a
+//!   window of about 32768/|r·Q[H]| samples (a window that slides below
+//!   min_speed that long is skipped); the step γ·T·r/Q[H_c] is rounded to
+//!   2⁻¹⁶ as in `LevelAdaptation`, and each product in the sums too.
 
 // Arithmetic here is on the generic number type `T`, whose operators are
 // total by the `Scalar` contract (IEEE `f32`; saturating `Q16`): no panic, no
@@ -104,7 +105,7 @@ pub struct StictionAdaptation<T: Scalar = f32> {
     direction: i8,
     /// A window is open (after a turning point, before sliding at speed).
     open: bool,
-    /// α-weighted window sums of Q[H_c]², Q[H_c]·Q[H_s], Q[H_s]², r·Q[H_c],
+    /// Window sums of Q[H_c]², Q[H_c]·Q[H_s], Q[H_s]², r·Q[H_c],
     /// r·Q[H_s] [N²].
     sums: [T; 5],
 }
@@ -202,7 +203,6 @@ impl<T: Scalar> StictionAdaptation<T> {
         }
         self.direction = direction;
         if self.open {
-            let a = self.alpha;
             let terms = [
                 coulomb * coulomb,
                 coulomb * stiction,
@@ -211,7 +211,7 @@ impl<T: Scalar> StictionAdaptation<T> {
                 residual * stiction,
             ];
             for (sum, term) in self.sums.iter_mut().zip(terms) {
-                *sum = (*sum + (a * term.saturate()).saturate()).saturate();
+                *sum = (*sum + term.saturate()).saturate();
             }
             if fast {
                 self.open = false;
