@@ -112,6 +112,35 @@ pub struct StictionAdaptation<T: Scalar = f32> {
 
 impl StictionAdaptation<f32> {
     /// Validates the settings; θ_c = θ_s = 1.
+    ///
+    /// ```
+    /// use breakaway::compensation::{DisturbanceObserver, Feedforward, FeedforwardConfig,
+    ///     ObserverConfig, StictionAdaptation, StictionConfig};
+    /// use breakaway::{Model, Params};
+    /// let model = Model::<f32>::new(Params { fc: 1.0, fs: 1.5, v_stribeck: 1e-3,
+    ///     delta: 1.0, sigma: 0.0, z_max: 1e-5, epsilon: 0.0 })?;
+    /// let mut ff = Feedforward::<f32>::new(FeedforwardConfig::default(), 0.0, 1.0)
+    ///     .unwrap()
+    ///     .with_split_levels();
+    /// let mut dob = DisturbanceObserver::new(ObserverConfig {
+    ///     mass: 1.0, bandwidth: 100.0, period: 1e-3 }).unwrap();
+    /// let mut adaptation = StictionAdaptation::new(StictionConfig {
+    ///     rate: 1.0, reversal_gain: 0.3, bandwidth: 100.0, min_scale: 0.5,
+    ///     max_scale: 2.0, max_stiction_scale: 3.0, min_speed: 1e-3, period: 1e-3,
+    /// }).unwrap();
+    /// let (mut command, mut u_ff) = (0.0, 0.0);
+    /// for n in 0..100 {
+    ///     let (x_ref, v_ref, v) = (n as f32 * 1e-5, 1e-2, 1e-2); // m, m/s, m/s
+    ///     let r = dob.update(command, v, u_ff).unwrap();
+    ///     // `ff` still holds the period just ended: its regressors match r.
+    ///     let (coulomb, stiction) = adaptation.update(r, &ff, v_ref).unwrap();
+    ///     ff.set_level_scales(coulomb, stiction);
+    ///     u_ff = ff.update(&model, x_ref, v_ref).unwrap();
+    ///     command = u_ff + r; // plus the controller's own output
+    /// }
+    /// assert!((0.5..=2.0).contains(&adaptation.coulomb_scale()));
+    /// # Ok::<(), breakaway::ParamError>(())
+    /// ```
     pub fn new(config: StictionConfig) -> Result<Self, ConfigError> {
         Self::with_units(config, Units::SI)
     }
