@@ -1048,7 +1048,10 @@ mod tests {
             // 0.1 µm per count: within a factor 1.5 of ideal (measured
             // +1 % and +31 %: 0.90 and 1.14 µm against 0.89 and 0.87 µm).
             let fine = peak(plant, adaptive, "none", 1e-7);
-            assert!(fine / ad < 1.5 && ad / fine < 1.5, "{plant}: {fine} vs {ad}");
+            assert!(
+                fine / ad < 1.5 && ad / fine < 1.5,
+                "{plant}: {fine} vs {ad}"
+            );
             // Through the 1 µm encoder (measured: 19.1× and 12.6× better
             // than none, 7.3× and 3.8× better than coulomb+observer).
             let q = TARGET_ENCODER;

@@ -250,6 +250,18 @@ fn setting_in<T: Scalar>(x: f32, unit: f32, setting: Setting) -> Result<T, Confi
     }
 }
 
+/// Clamps `x` to [lo, hi] (±∞ to the bounds).
+#[inline(always)]
+fn clamp<T: Scalar>(x: T, lo: T, hi: T) -> T {
+    if x < lo {
+        lo
+    } else if x > hi {
+        hi
+    } else {
+        x
+    }
+}
+
 /// Clamps `x` to [−limit, limit]; finite for finite `limit`.
 #[inline(always)]
 fn clamp_symmetric<T: Scalar>(x: T, limit: T) -> T {

@@ -51,7 +51,8 @@
 // wrap.
 #![allow(clippy::arithmetic_side_effects)]
 
-use super::{non_negative, positive, setting_in, ConfigError, Feedforward, Setting, SignalError};
+use super::adaptation::ScaleStep;
+use super::{clamp, positive, setting_in, ConfigError, Feedforward, Setting, SignalError};
 use crate::position::Position;
 use crate::scalar::{Scalar, Units};
 
@@ -86,14 +87,12 @@ pub struct StictionConfig {
 /// forces in units of Fs and velocities in units of V).
 #[derive(Clone, Debug, PartialEq)]
 pub struct StictionAdaptation<T: Scalar = f32> {
-    /// γ·T [-], κ [-], α [-].
-    step: T,
+    /// The Coulomb step (γ·T, θ_c bounds, min_speed).
+    step: ScaleStep<T>,
+    /// κ [-], α [-].
     gain: T,
     alpha: T,
-    min_scale: T,
-    max_scale: T,
     max_stiction_scale: T,
-    min_speed: T,
     /// 32: the bound on 1/(1 − ρ²) of a window's fit.
     condition: T,
     /// θ_c, θ_s [-].
@@ -150,12 +149,15 @@ impl<T: Scalar> StictionAdaptation<T> {
     /// Validates the settings for a model with `units`
     /// ([`Model::units`](crate::Model::units)); θ_c = θ_s = 1.
     pub fn with_units(config: StictionConfig, units: Units) -> Result<Self, ConfigError> {
-        let rate = positive(config.rate, Setting::Rate)?;
-        let period = positive(config.period, Setting::Period)?;
-        let step = rate * period;
-        if !(step.is_finite() && step > 0.0 && step <= 1.0) {
-            return Err(ConfigError(Setting::Rate));
-        }
+        let step = ScaleStep::new(
+            config.rate,
+            config.period,
+            config.min_scale,
+            config.max_scale,
+            config.min_speed,
+            units,
+        )?;
+        let period = config.period;
         let gain = positive(config.reversal_gain, Setting::ReversalGain)?;
         if gain > 1.0 {
             return Err(ConfigError(Setting::ReversalGain));
@@ -165,27 +167,15 @@ impl<T: Scalar> StictionAdaptation<T> {
         if !(alpha > 0.0 && alpha <= 1.0) {
             return Err(ConfigError(Setting::Bandwidth));
         }
-        let min_scale = positive(config.min_scale, Setting::MinScale)?;
-        if min_scale > 1.0 {
-            return Err(ConfigError(Setting::MinScale));
-        }
-        let max_scale = positive(config.max_scale, Setting::MaxScale)?;
-        if max_scale < 1.0 {
-            return Err(ConfigError(Setting::MaxScale));
-        }
         let max_stiction_scale = positive(config.max_stiction_scale, Setting::MaxStictionScale)?;
         if max_stiction_scale < 1.0 {
             return Err(ConfigError(Setting::MaxStictionScale));
         }
-        let min_speed = non_negative(config.min_speed, Setting::MinSpeed)?;
         Ok(Self {
-            step: setting_in(step, 1.0, Setting::Rate)?,
+            step,
             gain: setting_in(gain, 1.0, Setting::ReversalGain)?,
             alpha: setting_in(alpha, 1.0, Setting::Bandwidth)?,
-            min_scale: setting_in(min_scale, 1.0, Setting::MinScale)?,
-            max_scale: setting_in(max_scale, 1.0, Setting::MaxScale)?,
             max_stiction_scale: setting_in(max_stiction_scale, 1.0, Setting::MaxStictionScale)?,
-            min_speed: setting_in(min_speed, units.velocity, Setting::MinSpeed)?,
             condition: T::from_f32(32.0).ok_or(ConfigError(Setting::ReversalGain))?,
             coulomb: T::ONE,
             stiction: T::ONE,
@@ -220,10 +210,9 @@ impl<T: Scalar> StictionAdaptation<T> {
             *q = *q + self.alpha * (h - *q);
         }
         let [coulomb, stiction] = self.filtered;
-        let fast = feedforward.is_sliding() && velocity.abs() >= self.min_speed;
+        let fast = feedforward.is_sliding() && velocity.abs() >= self.step.min_speed;
         if fast && coulomb != T::ZERO {
-            let next = self.coulomb + self.step * (residual / coulomb);
-            self.coulomb = clamp(next, self.min_scale, self.max_scale);
+            self.coulomb = self.step.next(self.coulomb, residual, coulomb);
         }
         let direction = feedforward.presliding().direction();
         if direction != self.direction && self.direction != 0 {
@@ -286,17 +275,5 @@ impl<T: Scalar> StictionAdaptation<T> {
         self.direction = 0;
         self.open = false;
         self.sums = [T::ZERO; 5];
-    }
-}
-
-/// `x` clamped to [lo, hi]; ±∞ to the bounds, NaN cannot arise here.
-#[inline(always)]
-fn clamp<T: Scalar>(x: T, lo: T, hi: T) -> T {
-    if x < lo {
-        lo
-    } else if x > hi {
-        hi
-    } else {
-        x
     }
 }
