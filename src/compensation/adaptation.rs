@@ -27,7 +27,10 @@
 //! - **Slow**: γ must stay well below the observer bandwidth, since r is the
 //!   observer's low-pass estimate; γ·T ≤ 1 is required.
 //! - One scale for Fc and Fs together (the shape of S is kept); an asymmetry
-//!   between the directions averages into θ.
+//!   between the directions averages into θ. A drift of Fc alone changes
+//!   the shape: θ settles at the sliding level and θ·Fs over-compensates
+//!   every break-away; [`StictionAdaptation`](super::StictionAdaptation)
+//!   scales Fc and Fs − Fc separately.
 
 // Arithmetic here is on the generic number type `T`, whose operators are
 // total by the `Scalar` contract (IEEE `f32`; saturating `Q16`): no panic, no

@@ -192,7 +192,9 @@ impl<T: Scalar> StictionAdaptation<T> {
     /// state are the regressors), and the reference `velocity` [m/s] (model
     /// units for fixed point). Returns (θ_c, θ_s) [-] for
     /// [`Feedforward::set_level_scales`]. A non-finite input is rejected and
-    /// leaves the state unchanged.
+    /// leaves the state unchanged. On a feedforward without
+    /// [split levels](Feedforward::with_split_levels) H − H_c is 0: no window
+    /// is conditioned, θ_s stays put and θ_c is a single scale on all of H.
     pub fn update<P: Position<T>, const N: usize>(
         &mut self,
         residual: T,
