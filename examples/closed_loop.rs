@@ -1,7 +1,8 @@
 //! The closed-loop benchmark of `breakaway-lab closed-loop` on the MCU
 //! (`common/closed_loop.rs`) with the nine `f32` compensators (four
 //! feedforwards, each with and without the disturbance observer, and the
-//! presliding one with observer and level adaptation) measured ideally,
+//! presliding one with observer and the adaptation of the Coulomb and
+//! stiction levels) measured ideally,
 //! then three of them through a 1 µm encoder. Then `done`. xtask compares
 //! the figures with the host's f64 run.
 #![no_std]
@@ -14,13 +15,13 @@ mod common;
 mod harness;
 
 use breakaway::compensation::{
-    AdaptationConfig, DisturbanceObserver, Feedforward, FeedforwardConfig, LevelAdaptation,
-    ObserverConfig,
+    DisturbanceObserver, Feedforward, FeedforwardConfig, ObserverConfig, StictionAdaptation,
+    StictionConfig,
 };
 use breakaway::Model;
 use cortex_m_rt::entry;
 use cortex_m_semihosting::hprintln;
-use harness::{Inputs, ADAPTATION_RATE, MASS, OBSERVER_BANDWIDTH, PERIOD};
+use harness::{Inputs, ADAPTATION_RATE, MASS, OBSERVER_BANDWIDTH, PERIOD, REVERSAL_GAIN};
 
 /// Compensators: (name, feedforward 0 none, 1 Coulomb, 2 Stribeck,
 /// 3 presliding; observer; adaptation), as the host benchmark names them.
@@ -47,16 +48,22 @@ fn run(
     encoder: f32,
 ) -> Option<(f32, f32, f32)> {
     let mut ff = Feedforward::<f32>::new(FeedforwardConfig::default(), 0.0, 1.0).ok()?;
+    if adapt {
+        ff = ff.with_split_levels();
+    }
     let mut observer = DisturbanceObserver::new(ObserverConfig {
         mass: MASS,
         bandwidth: OBSERVER_BANDWIDTH,
         period: PERIOD,
     })
     .ok()?;
-    let mut adaptation = LevelAdaptation::new(AdaptationConfig {
+    let mut adaptation = StictionAdaptation::new(StictionConfig {
         rate: ADAPTATION_RATE,
+        reversal_gain: REVERSAL_GAIN,
+        bandwidth: OBSERVER_BANDWIDTH,
         min_scale: 0.5,
         max_scale: 2.0,
+        max_stiction_scale: 3.0,
         min_speed: common::FIG5.v_stribeck,
         period: PERIOD,
     })
@@ -66,10 +73,8 @@ fn run(
         let residual = if observe {
             let r = observer.update(i.command, i.velocity, u_ff).ok()?;
             if adapt {
-                let theta = adaptation
-                    .update(r, ff.dry(), i.v_ref, ff.is_sliding())
-                    .ok()?;
-                ff.set_level_scale(theta);
+                let (coulomb, stiction) = adaptation.update(r, &ff, i.v_ref).ok()?;
+                ff.set_level_scales(coulomb, stiction);
             }
             r
         } else {

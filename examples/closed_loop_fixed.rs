@@ -1,7 +1,7 @@
 //! The closed-loop benchmark of `breakaway-lab closed-loop` on a Cortex-M0
 //! (`common/closed_loop.rs`: the plant and the PID in `f32`) with the
 //! compensators in Q16.16: the same `Feedforward`, `DisturbanceObserver`
-//! and `LevelAdaptation` code as the `f32` example, on a `Model<Q16>` built
+//! and `StictionAdaptation` code as the `f32` example, on a `Model<Q16>` built
 //! in place, the reference position read as 10 nm encoder counts. Rows
 //! `presliding` and `presliding+observer+adaptation`, measured ideally and
 //! through a 1 µm encoder, then `done`; xtask compares them with the host's
@@ -16,13 +16,13 @@ mod common;
 mod harness;
 
 use breakaway::compensation::{
-    AdaptationConfig, DisturbanceObserver, Feedforward, FeedforwardConfig, LevelAdaptation,
-    ObserverConfig,
+    DisturbanceObserver, Feedforward, FeedforwardConfig, ObserverConfig, StictionAdaptation,
+    StictionConfig,
 };
 use breakaway::{Model, Scalar, Q16};
 use cortex_m_rt::entry;
 use cortex_m_semihosting::hprintln;
-use harness::{Inputs, ADAPTATION_RATE, MASS, OBSERVER_BANDWIDTH, PERIOD};
+use harness::{Inputs, ADAPTATION_RATE, MASS, OBSERVER_BANDWIDTH, PERIOD, REVERSAL_GAIN};
 
 /// Metres per encoder count of the reference position.
 const COUNT: f32 = 1e-8;
@@ -42,20 +42,26 @@ fn run(observe: bool, model: &Model<Q16>, encoder: f32) -> Option<(f32, f32, f32
     let scale = model.position_scale::<i32>(COUNT)?;
     let mut ff =
         Feedforward::<i32, Q16>::with_units(FeedforwardConfig::default(), units, 0, scale).ok()?;
+    if observe {
+        ff = ff.with_split_levels();
+    }
     let observer_config = ObserverConfig {
         mass: MASS,
         bandwidth: OBSERVER_BANDWIDTH,
         period: PERIOD,
     };
     let mut observer = DisturbanceObserver::<Q16>::with_units(observer_config, units).ok()?;
-    let adaptation_config = AdaptationConfig {
+    let adaptation_config = StictionConfig {
         rate: ADAPTATION_RATE,
+        reversal_gain: REVERSAL_GAIN,
+        bandwidth: OBSERVER_BANDWIDTH,
         min_scale: 0.5,
         max_scale: 2.0,
+        max_stiction_scale: 3.0,
         min_speed: common::FIG5.v_stribeck,
         period: PERIOD,
     };
-    let mut adaptation = LevelAdaptation::<Q16>::with_units(adaptation_config, units).ok()?;
+    let mut adaptation = StictionAdaptation::<Q16>::with_units(adaptation_config, units).ok()?;
     let mut u_ff = Q16::ZERO;
     harness::run(encoder, |i: &Inputs| {
         // The boundary: SI in f32 → counts and per-unit Q16.
@@ -65,10 +71,8 @@ fn run(observe: bool, model: &Model<Q16>, encoder: f32) -> Option<(f32, f32, f32
             let command = Q16::from_f32(i.command / units.force)?;
             let velocity = model.velocity(i.velocity)?;
             let r = observer.update(command, velocity, u_ff).ok()?;
-            let theta = adaptation
-                .update(r, ff.dry(), v_ref, ff.is_sliding())
-                .ok()?;
-            ff.set_level_scale(theta);
+            let (coulomb, stiction) = adaptation.update(r, &ff, v_ref).ok()?;
+            ff.set_level_scales(coulomb, stiction);
             u_ff = ff.update(model, count, v_ref).ok()?;
             u_ff + r
         } else {

@@ -17,7 +17,7 @@ use core::hint::black_box;
 
 use breakaway::compensation::{
     AdaptationConfig, BreakAwayDetector, DetectorConfig, DisturbanceObserver, Feedforward,
-    FeedforwardConfig, LevelAdaptation, ObserverConfig,
+    FeedforwardConfig, LevelAdaptation, ObserverConfig, StictionAdaptation, StictionConfig,
 };
 use breakaway::{BreakAwayPredictor, Model, Params, Presliding, Scalar, ScaleError, Variant, Q16};
 use cortex_m_rt::entry;
@@ -120,6 +120,54 @@ fn main() -> ! {
             acc += ad
                 .update(sample(0.1), sample(1.0), sample(1e-2), sample(true))
                 .unwrap_or(0.0);
+        }
+        let stiction = StictionConfig {
+            rate: 0.5,
+            reversal_gain: 0.3,
+            bandwidth: 100.0,
+            min_scale: 0.5,
+            max_scale: 2.0,
+            max_stiction_scale: 3.0,
+            min_speed: 1e-3,
+            period: 1e-3,
+        };
+        // Out and back: a reversal window opens and closes.
+        let stroke = [0.0, 2e-5, 4e-5, 2e-5, 0.0];
+        if let (Ok(mut ad), Ok(ff)) = (
+            StictionAdaptation::new(sample(stiction)),
+            Feedforward::<f32>::new(sample(FeedforwardConfig::default()), 0.0, 1.0),
+        ) {
+            let mut ff = ff.with_split_levels();
+            for x in stroke {
+                let (c, s) = ad
+                    .update(sample(0.1), &ff, sample(1e-2))
+                    .unwrap_or((1.0, 1.0));
+                ff.set_level_scales(c, s);
+                acc += ff.update(&model, sample(x), sample(1e-2)).unwrap_or(0.0);
+            }
+        }
+        if let (Some(scale), Ok(mut ad)) = (
+            fixed.position_scale::<i32>(sample(1e-8)),
+            StictionAdaptation::<Q16>::with_units(sample(stiction), fixed.units()),
+        ) {
+            if let Ok(ff) = Feedforward::<i32, Q16>::with_units(
+                sample(FeedforwardConfig::default()),
+                fixed.units(),
+                0,
+                scale,
+            ) {
+                let mut ff = ff.with_split_levels();
+                for x in stroke {
+                    let (c, s) = ad
+                        .update(sample(Q16::ONE), &ff, sample(Q16::ONE))
+                        .unwrap_or((Q16::ONE, Q16::ONE));
+                    ff.set_level_scales(c, s);
+                    let count = sample((x / 1e-8) as i32);
+                    acc += ff
+                        .update(&fixed, count, sample(Q16::ONE))
+                        .map_or(0, Q16::to_bits) as f32;
+                }
+            }
         }
         let detector = DetectorConfig {
             period: 1e-3,

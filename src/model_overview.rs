@@ -220,7 +220,9 @@
 //! Real axes show friction the base model above does not contain. The
 //! project names each such effect; the library implements the base model,
 //! `viscous` included (σ), and the compensation blocks track a slow change of
-//! level (`drift`, [`LevelAdaptation`](crate::compensation::LevelAdaptation));
+//! level (`drift`, [`LevelAdaptation`](crate::compensation::LevelAdaptation),
+//! and Fc and Fs − Fc separately with
+//! [`StictionAdaptation`](crate::compensation::StictionAdaptation));
 //! the other effects are modelled in the project's f64 reference and found in
 //! measured data by its discrepancy workflow
 //! ([lab/README.md](https://github.com/breakaway-rs/breakaway/blob/main/lab/README.md)).

@@ -205,6 +205,30 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
     /// or [`SampleError::Position`] and leaves the state untouched. For finite samples the result is finite and |H| never
     /// exceeds Fs.
     pub fn update(&mut self, model: &Model<T>, position: P, velocity: T) -> Result<T, SampleError> {
+        self.update_at(model, position, velocity, false)
+    }
+
+    /// [`update`](Self::update) on the model with its stiction removed
+    /// (S ≡ Fc, Fs = Fc): the Coulomb part of H for the split level scales
+    /// of [`Feedforward`](crate::compensation::Feedforward).
+    pub(crate) fn update_coulomb(
+        &mut self,
+        model: &Model<T>,
+        position: P,
+        velocity: T,
+    ) -> Result<T, SampleError> {
+        self.update_at(model, position, velocity, true)
+    }
+
+    /// The sample of [`update`](Self::update), with S ≡ Fc when `coulomb`.
+    #[inline(always)]
+    fn update_at(
+        &mut self,
+        model: &Model<T>,
+        position: P,
+        velocity: T,
+        coulomb: bool,
+    ) -> Result<T, SampleError> {
         if !velocity.is_finite() {
             return Err(SampleError::Velocity);
         }
@@ -234,7 +258,7 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
             self.reverse();
         }
         self.extremum = position;
-        self.dry = self.follow(model, position, velocity);
+        self.dry = self.follow(model, position, velocity, coulomb);
         // |H| ≤ Fs ≤ f32::MAX/4, so only σ·v can overflow (to ±∞, never NaN).
         self.force = (self.dry + viscous).saturate();
         Ok(self.force)
@@ -325,8 +349,13 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
     /// Dry friction H on the current branch at `position`, the extremum of
     /// the branch.
     #[inline(always)]
-    fn follow(&mut self, model: &Model<T>, position: P, velocity: T) -> T {
-        let stribeck = self.along(model.curves.stribeck(velocity));
+    fn follow(&mut self, model: &Model<T>, position: P, velocity: T, coulomb: bool) -> T {
+        let level = if coulomb {
+            model.fc
+        } else {
+            model.curves.stribeck(velocity)
+        };
+        let stribeck = self.along(level);
         if N == 0 || self.memory.is_empty() {
             if self.base_saturated {
                 return stribeck;

@@ -34,6 +34,8 @@ pub const MASS: f32 = 1.0;
 const OMEGA: f32 = 125.0;
 pub const OBSERVER_BANDWIDTH: f32 = 100.0;
 pub const ADAPTATION_RATE: f32 = 1.0;
+/// κ of the stiction adaptation.
+pub const REVERSAL_GAIN: f32 = 0.3;
 const SUBSTEPS: u32 = 200;
 const VELOCITY_BANDWIDTH: f32 = 3000.0;
 
@@ -62,7 +64,7 @@ pub struct Inputs {
 /// Prints the `cfg` line.
 pub fn print_config() {
     hprintln!(
-        "cfg {} {} {} {} {} {} {} {} {} {}",
+        "cfg {} {} {} {} {} {} {} {} {} {} {}",
         PERIOD,
         AMPLITUDE,
         FREQUENCY,
@@ -72,7 +74,8 @@ pub fn print_config() {
         OBSERVER_BANDWIDTH,
         ADAPTATION_RATE,
         SUBSTEPS,
-        VELOCITY_BANDWIDTH
+        VELOCITY_BANDWIDTH,
+        REVERSAL_GAIN
     );
 }
 

@@ -271,6 +271,21 @@ pub struct ClosedLoopArgs {
         allow_hyphen_values = true
     )]
     pub velocity_bandwidth: f64,
+    /// Shift [counts], in [0, 1), of the encoder's zero: the count
+    /// boundaries move by P counts, the reading stays unbiased (how much
+    /// the 1 µm figures depend on where the counts fall).
+    #[arg(
+        long,
+        value_name = "P",
+        default_value_t = 0.0,
+        value_parser = parse_non_negative,
+        allow_hyphen_values = true
+    )]
+    pub count_phase: f64,
+    /// The adaptive row adapts the single level scale θ (`LevelAdaptation`)
+    /// instead of the Coulomb and stiction scales (`StictionAdaptation`).
+    #[arg(long)]
+    pub single_scale: bool,
 }
 
 /// Parses a finite number > 0.

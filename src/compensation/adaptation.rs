@@ -27,14 +27,17 @@
 //! - **Slow**: γ must stay well below the observer bandwidth, since r is the
 //!   observer's low-pass estimate; γ·T ≤ 1 is required.
 //! - One scale for Fc and Fs together (the shape of S is kept); an asymmetry
-//!   between the directions averages into θ.
+//!   between the directions averages into θ. A drift of Fc alone changes
+//!   the shape: θ settles at the sliding level and θ·Fs over-compensates
+//!   every break-away; [`StictionAdaptation`](super::StictionAdaptation)
+//!   scales Fc and Fs − Fc separately.
 
 // Arithmetic here is on the generic number type `T`, whose operators are
 // total by the `Scalar` contract (IEEE `f32`; saturating `Q16`): no panic, no
 // wrap.
 #![allow(clippy::arithmetic_side_effects)]
 
-use super::{non_negative, positive, setting_in, ConfigError, Setting, SignalError};
+use super::{clamp, non_negative, positive, setting_in, ConfigError, Setting, SignalError};
 use crate::scalar::{Scalar, Units};
 
 /// Settings of a [`LevelAdaptation`].
@@ -62,11 +65,65 @@ pub struct AdaptationConfig {
 /// a deadband on the relative residual.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LevelAdaptation<T: Scalar = f32> {
+    step: ScaleStep<T>,
+    scale: T,
+}
+
+/// The bounded normalised step θ ← clamp(θ + γ·T·r/H, θ_min, θ_max) and
+/// its settings, validated once: the level scale of [`LevelAdaptation`] and
+/// the Coulomb scale of [`StictionAdaptation`](super::StictionAdaptation).
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct ScaleStep<T: Scalar> {
+    /// γ·T [-].
     step: T,
     min_scale: T,
     max_scale: T,
-    min_speed: T,
-    scale: T,
+    /// The speed below which θ is frozen (model velocity units).
+    pub(super) min_speed: T,
+}
+
+impl<T: Scalar> ScaleStep<T> {
+    /// Validates γ [1/s], T [s], θ_min, θ_max [-] and the speed [m/s], as
+    /// documented on [`AdaptationConfig`].
+    pub(super) fn new(
+        rate: f32,
+        period: f32,
+        min_scale: f32,
+        max_scale: f32,
+        min_speed: f32,
+        units: Units,
+    ) -> Result<Self, ConfigError> {
+        let rate = positive(rate, Setting::Rate)?;
+        let period = positive(period, Setting::Period)?;
+        let step = rate * period;
+        // γ·T can underflow to 0 from two positive settings; a zero step
+        // would turn an infinite r/H into 0·∞ = NaN.
+        if !(step.is_finite() && step > 0.0 && step <= 1.0) {
+            return Err(ConfigError(Setting::Rate));
+        }
+        let min_scale = positive(min_scale, Setting::MinScale)?;
+        if min_scale > 1.0 {
+            return Err(ConfigError(Setting::MinScale));
+        }
+        let max_scale = positive(max_scale, Setting::MaxScale)?;
+        if max_scale < 1.0 {
+            return Err(ConfigError(Setting::MaxScale));
+        }
+        let min_speed = non_negative(min_speed, Setting::MinSpeed)?;
+        Ok(Self {
+            step: setting_in(step, 1.0, Setting::Rate)?,
+            min_scale: setting_in(min_scale, 1.0, Setting::MinScale)?,
+            max_scale: setting_in(max_scale, 1.0, Setting::MaxScale)?,
+            min_speed: setting_in(min_speed, units.velocity, Setting::MinSpeed)?,
+        })
+    }
+
+    /// θ + γ·T·r/H clamped to [θ_min, θ_max], for a finite r and a finite
+    /// H ≠ 0 (NaN cannot arise; ±∞ clamps to the bounds).
+    pub(super) fn next(&self, scale: T, residual: T, regressor: T) -> T {
+        let next = scale + self.step * (residual / regressor);
+        clamp(next, self.min_scale, self.max_scale)
+    }
 }
 
 impl LevelAdaptation<f32> {
@@ -80,28 +137,15 @@ impl<T: Scalar> LevelAdaptation<T> {
     /// Validates the settings for a model with `units`
     /// ([`Model::units`](crate::Model::units)); θ starts at 1.
     pub fn with_units(config: AdaptationConfig, units: Units) -> Result<Self, ConfigError> {
-        let rate = positive(config.rate, Setting::Rate)?;
-        let period = positive(config.period, Setting::Period)?;
-        let step = rate * period;
-        // γ·T can underflow to 0 from two positive settings; a zero step
-        // would turn an infinite r/H into 0·∞ = NaN.
-        if !(step.is_finite() && step > 0.0 && step <= 1.0) {
-            return Err(ConfigError(Setting::Rate));
-        }
-        let min_scale = positive(config.min_scale, Setting::MinScale)?;
-        if min_scale > 1.0 {
-            return Err(ConfigError(Setting::MinScale));
-        }
-        let max_scale = positive(config.max_scale, Setting::MaxScale)?;
-        if max_scale < 1.0 {
-            return Err(ConfigError(Setting::MaxScale));
-        }
-        let min_speed = non_negative(config.min_speed, Setting::MinSpeed)?;
+        let AdaptationConfig {
+            rate,
+            min_scale,
+            max_scale,
+            min_speed,
+            period,
+        } = config;
         Ok(Self {
-            step: setting_in(step, 1.0, Setting::Rate)?,
-            min_scale: setting_in(min_scale, 1.0, Setting::MinScale)?,
-            max_scale: setting_in(max_scale, 1.0, Setting::MaxScale)?,
-            min_speed: setting_in(min_speed, units.velocity, Setting::MinSpeed)?,
+            step: ScaleStep::new(rate, period, min_scale, max_scale, min_speed, units)?,
             scale: T::ONE,
         })
     }
@@ -125,16 +169,8 @@ impl<T: Scalar> LevelAdaptation<T> {
         if !velocity.is_finite() {
             return Err(SignalError::Velocity);
         }
-        if sliding && velocity.abs() >= self.min_speed && regressor != T::ZERO {
-            let next = self.scale + self.step * (residual / regressor);
-            // NaN cannot arise (finite / non-zero); ±∞ clamps to the bounds.
-            self.scale = if next < self.min_scale {
-                self.min_scale
-            } else if next > self.max_scale {
-                self.max_scale
-            } else {
-                next
-            };
+        if sliding && velocity.abs() >= self.step.min_speed && regressor != T::ZERO {
+            self.scale = self.step.next(self.scale, residual, regressor);
         }
         Ok(self.scale)
     }

@@ -10,7 +10,19 @@
 //!
 //! with θ the level scale of [`LevelAdaptation`](super::LevelAdaptation)
 //! (1 when not adapted; H is linear in Fc and Fs, so scaling both by θ
-//! scales H by θ). At a reversal of the reference the force leaves the
+//! scales H by θ).
+//!
+//! With [`with_split_levels`](Feedforward::with_split_levels) the
+//! Coulomb level and the stiction excess Fs − Fc get scales of their own:
+//! a second presliding state on the same reference with S ≡ Fc gives the
+//! Coulomb part H_c of H (H is linear in Fc and Fs − Fc, turning points
+//! included), and
+//!
+//! ```text
+//! u_ff = clamp(gain·(θ_c·H_c + θ_s·(H − H_c) + σ·v), ±limit)
+//! ```
+//!
+//! with θ_c and θ_s from [`StictionAdaptation`](super::StictionAdaptation). At a reversal of the reference the force leaves the
 //! turning point along g(w) and needs the travel z_max to reach the new
 //! steady state, as the real friction does; a sgn(v_ref) feedforward
 //! instead steps by 2·Fc at the instant v_ref changes sign while the axis
@@ -71,7 +83,13 @@ pub struct Feedforward<P: Position<T> = f32, T: Scalar = f32, const N: usize = 0
     deadband: T,
     limit: T,
     state: Presliding<P, T, N>,
+    /// The state with S ≡ Fc, when the levels are split.
+    coulomb: Option<Presliding<P, T, N>>,
+    /// θ_c (θ when not split) and θ_s.
     scale: T,
+    stiction_scale: T,
+    /// H_c of the last accepted sample (H when not split).
+    coulomb_dry: T,
     force: T,
 }
 
@@ -135,9 +153,21 @@ impl<P: Position<T>, T: Scalar, const N: usize> Feedforward<P, T, N> {
             limit: setting_in(config.limit, units.force, Setting::Limit)?,
             config,
             state,
+            coulomb: None,
             scale: T::ONE,
+            stiction_scale: T::ONE,
+            coulomb_dry: T::ZERO,
             force: T::ZERO,
         })
+    }
+
+    /// The same feedforward with the Coulomb level and the stiction excess
+    /// Fs − Fc scaled separately ([`set_level_scales`](Self::set_level_scales));
+    /// call it before the first sample. Each sample then also runs the
+    /// presliding state machine with S ≡ Fc (no Stribeck evaluation).
+    pub fn with_split_levels(mut self) -> Self {
+        self.coulomb = Some(self.state.clone());
+        self
     }
 
     /// Feeds the reference sample (`x_ref` in position units, `v_ref`
@@ -155,7 +185,23 @@ impl<P: Position<T>, T: Scalar, const N: usize> Feedforward<P, T, N> {
         // f − dry = σ·v (saturated): only the dry part scales with θ. Each
         // product is saturated before the sum, so extreme settings give
         // ±∞ at worst (clamped below), never NaN (no 0·∞, no ∞ − ∞).
-        let level = (self.gain * (self.scale * dry).saturate()).saturate();
+        let scaled = match self.coulomb.as_mut() {
+            None => {
+                self.coulomb_dry = dry;
+                (self.scale * dry).saturate()
+            }
+            Some(coulomb) => {
+                // The same samples were just accepted: cannot fail.
+                coulomb.update_coulomb(model, x_ref, v)?;
+                self.coulomb_dry = coulomb.dry();
+                // |H|, |H_c| ≤ Fs: the difference is in range.
+                let excess = dry - self.coulomb_dry;
+                ((self.scale * self.coulomb_dry).saturate()
+                    + (self.stiction_scale * excess).saturate())
+                .saturate()
+            }
+        };
+        let level = (self.gain * scaled).saturate();
         let viscous = (self.gain * (f - dry).saturate()).saturate();
         let u = level + viscous;
         self.force = clamp_symmetric(u, self.limit);
@@ -168,12 +214,33 @@ impl<P: Position<T>, T: Scalar, const N: usize> Feedforward<P, T, N> {
     pub fn set_level_scale(&mut self, scale: T) {
         if scale.is_finite() && scale > T::ZERO {
             self.scale = scale;
+            self.stiction_scale = scale;
         }
     }
 
-    /// The level scale θ [-] in use.
+    /// Sets the scale θ_c [-] on the Coulomb part H_c and θ_s [-] on the
+    /// stiction part H − H_c (from
+    /// [`StictionAdaptation`](super::StictionAdaptation)): the feedforward of
+    /// a model with θ_c·Fc and θ_c·Fc + θ_s·(Fs − Fc). Without
+    /// [`with_split_levels`](Self::with_split_levels) θ_c scales all of H.
+    /// A non-finite θ_c or θ_s, θ_c ≤ 0 or θ_s < 0 is ignored. Takes effect
+    /// from the next sample.
+    pub fn set_level_scales(&mut self, coulomb: T, stiction: T) {
+        if coulomb.is_finite() && coulomb > T::ZERO && stiction.is_finite() && stiction >= T::ZERO {
+            self.scale = coulomb;
+            self.stiction_scale = stiction;
+        }
+    }
+
+    /// The level scale θ [-] in use (θ_c when the levels are split).
     pub fn level_scale(&self) -> T {
         self.scale
+    }
+
+    /// The scale θ_s [-] on the stiction part H − H_c (θ when the levels
+    /// are not split).
+    pub fn stiction_scale(&self) -> T {
+        self.stiction_scale
     }
 
     /// The compensation force u_ff [N] (model units) of the last accepted
@@ -187,6 +254,21 @@ impl<P: Position<T>, T: Scalar, const N: usize> Feedforward<P, T, N> {
     /// [`LevelAdaptation`](super::LevelAdaptation).
     pub fn dry(&self) -> T {
         self.state.dry()
+    }
+
+    /// The Coulomb part H_c [N] (model units) of [`dry`](Self::dry) after
+    /// the last accepted sample: H of the model with S ≡ Fc, the regressor
+    /// of θ_c in [`StictionAdaptation`](super::StictionAdaptation). H itself
+    /// without [`with_split_levels`](Self::with_split_levels).
+    pub fn coulomb_dry(&self) -> T {
+        self.coulomb_dry
+    }
+
+    /// The stiction part H − H_c [N] (model units) after the last accepted
+    /// sample: the regressor of θ_s. 0 without
+    /// [`with_split_levels`](Self::with_split_levels).
+    pub fn stiction_dry(&self) -> T {
+        (self.state.dry() - self.coulomb_dry).saturate()
     }
 
     /// `true` once the reference has left presliding (w = 1 on the current
@@ -208,6 +290,10 @@ impl<P: Position<T>, T: Scalar, const N: usize> Feedforward<P, T, N> {
     /// Returns to idle at `start` (the level scale is kept).
     pub fn reset(&mut self, start: P) {
         self.state.reset(start);
+        if let Some(coulomb) = self.coulomb.as_mut() {
+            coulomb.reset(start);
+        }
+        self.coulomb_dry = T::ZERO;
         self.force = T::ZERO;
     }
 }

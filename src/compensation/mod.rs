@@ -16,6 +16,10 @@
 //!   and Fs (temperature, wear: the `drift` of the
 //!   [effects](crate::model_overview#effects)), driven by the observer's
 //!   residual while sliding and frozen in presliding and at rest.
+//! - [`StictionAdaptation`]: the Coulomb level from sliding and the
+//!   stiction excess Fs − Fc from the window after each reversal (the
+//!   presliding swing and the break-away), on a feedforward
+//!   [with split levels](Feedforward::with_split_levels).
 //! - [`VelocityEstimator`]: the velocity from encoder counts, by a
 //!   critically damped α–β tracking filter (at low speed a difference of
 //!   counts is 0 or one count per period, which the derivative term and the
@@ -30,6 +34,7 @@
 //! | [`Feedforward`] | u_ff = clamp(gain·(θ·H + σ·v), ±limit) from (x_ref, v_ref) through the presliding state machine: at a reversal the force swings along g(w) over z_max of travel instead of stepping by 2·Fc | [presliding](crate::model_overview#presliding) |
 //! | [`DisturbanceObserver`] | r = Q(u − m_n·Δv/T − u_ff), Q a first-order low pass of bandwidth g: the force the feedforward does not explain | [plant](crate::model_overview#plant) |
 //! | [`LevelAdaptation`] | θ ← clamp(θ + γ·T·r/H, θ_min, θ_max): one scale on Fc and Fs, frozen in presliding and below `min_speed` | [Stribeck curve](crate::model_overview#stribeck-curve), `drift` |
+//! | [`StictionAdaptation`] | θ_c as θ above on H_c (the model with S ≡ Fc); θ_s ← clamp(θ_s + κ·Δθ_s, 0, θ_s,max) once per reversal, Δθ_s the least-squares fit of r on the filtered (H_c, H − H_c) from the turning point to sliding at `min_speed` | [Stribeck curve](crate::model_overview#stribeck-curve), [presliding](crate::model_overview#presliding), `drift` |
 //! | [`VelocityEstimator`] | v̂ from the position samples (counts): x̂⁻ = x̂ + T·v̂, e = x_m − x̂⁻, x̂ = x̂⁻ + (1 − p²)·e, v̂ += (1 − p)²·e/T, p = exp(−ω_e·T) | [plant](crate::model_overview#plant) (measurement) |
 //! | [`BreakAwayDetector<N>`](BreakAwayDetector) | least-squares k of a rising \|u\| at rest, break-away when \|v\| > `break_away_speed`, (k, F_ba, t_ba, predicted) in a `heapless::Deque` of N | [break-away predictor](crate::model_overview#break-away-predictor) |
 //! | `hal::PwmForce` (feature `hal`) | force → `embedded_hal::pwm::SetDutyCycle`, `Centered` (50 % = 0 N) or `Magnitude` (+ direction), saturating at ±F_full | – |
@@ -90,12 +95,14 @@ mod adaptation;
 mod detection;
 mod feedforward;
 mod observer;
+mod stiction;
 mod velocity;
 
 pub use adaptation::{AdaptationConfig, LevelAdaptation};
 pub use detection::{Accumulate, BreakAwayDetector, DetectorConfig, Measurement};
 pub use feedforward::{Feedforward, FeedforwardConfig};
 pub use observer::{DisturbanceObserver, ObserverConfig};
+pub use stiction::{StictionAdaptation, StictionConfig};
 pub use velocity::{VelocityConfig, VelocityEstimator};
 
 use core::fmt;
@@ -125,8 +132,12 @@ pub enum Setting {
     MinScale,
     /// [`AdaptationConfig::max_scale`].
     MaxScale,
-    /// [`AdaptationConfig::min_speed`].
+    /// [`AdaptationConfig::min_speed`], [`StictionConfig::min_speed`].
     MinSpeed,
+    /// [`StictionConfig::reversal_gain`].
+    ReversalGain,
+    /// [`StictionConfig::max_stiction_scale`].
+    MaxStictionScale,
     /// [`DetectorConfig::rest_speed`].
     RestSpeed,
     /// [`DetectorConfig::break_away_speed`].
@@ -155,6 +166,8 @@ impl Setting {
             Setting::MinScale => "min_scale",
             Setting::MaxScale => "max_scale",
             Setting::MinSpeed => "min_speed",
+            Setting::ReversalGain => "reversal_gain",
+            Setting::MaxStictionScale => "max_stiction_scale",
             Setting::RestSpeed => "rest_speed",
             Setting::BreakAwaySpeed => "break_away_speed",
             Setting::MinRate => "min_rate",
@@ -210,6 +223,18 @@ fn setting_in<T: Scalar>(x: f32, unit: f32, setting: Setting) -> Result<T, Confi
         Some(t) if t > T::ZERO || scaled == 0.0 => Ok(t),
         None if scaled > 0.0 => Ok(T::MAX),
         _ => Err(ConfigError(setting)),
+    }
+}
+
+/// Clamps `x` to [lo, hi] (±∞ to the bounds).
+#[inline(always)]
+fn clamp<T: Scalar>(x: T, lo: T, hi: T) -> T {
+    if x < lo {
+        lo
+    } else if x > hi {
+        hi
+    } else {
+        x
     }
 }
 

@@ -473,6 +473,7 @@ fn compare_closed_loop(
         host::ADAPTATION_RATE,
         host::MODEL_SUBSTEPS as f64,
         host::VELOCITY_BANDWIDTH,
+        host::REVERSAL_GAIN,
     ];
     for (i, want) in expected.iter().enumerate() {
         let got = field(fields, i + 1, line)?;
