@@ -37,8 +37,9 @@
 // wrap.
 #![allow(clippy::arithmetic_side_effects)]
 
-use super::{clamp, non_negative, positive, setting_in, ConfigError, Setting, SignalError};
+use super::{clamp, non_negative, positive, setting_in, ConfigError, Setting};
 use crate::scalar::{Scalar, Units};
+use crate::SampleError;
 
 /// Settings of a [`LevelAdaptation`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -162,12 +163,12 @@ impl<T: Scalar> LevelAdaptation<T> {
         regressor: T,
         velocity: T,
         sliding: bool,
-    ) -> Result<T, SignalError> {
+    ) -> Result<T, SampleError> {
         if !(residual.is_finite() && regressor.is_finite()) {
-            return Err(SignalError::Force);
+            return Err(SampleError::Force);
         }
         if !velocity.is_finite() {
-            return Err(SignalError::Velocity);
+            return Err(SampleError::Velocity);
         }
         if sliding && velocity.abs() >= self.step.min_speed && regressor != T::ZERO {
             self.scale = self.step.next(self.scale, residual, regressor);

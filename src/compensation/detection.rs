@@ -99,7 +99,8 @@ use crate::model::Model;
 use crate::predictor::{BreakAway, BreakAwayPredictor, Variant};
 use crate::scalar::Scalar;
 
-use super::{non_negative, positive, setting_in, ConfigError, Setting, SignalError};
+use super::{non_negative, positive, setting_in, ConfigError, Setting};
+use crate::SampleError;
 
 /// Settings of a [`BreakAwayDetector`], in SI units whatever the number
 /// type of the model (converted once with [`Model::units`]).
@@ -422,12 +423,12 @@ impl<const N: usize, T: Accumulate> BreakAwayDetector<N, T> {
         model: &Model<T>,
         command: T,
         velocity: T,
-    ) -> Result<Option<Measurement<T>>, SignalError> {
+    ) -> Result<Option<Measurement<T>>, SampleError> {
         if !command.is_finite() {
-            return Err(SignalError::Command);
+            return Err(SampleError::Command);
         }
         if !velocity.is_finite() {
-            return Err(SignalError::Velocity);
+            return Err(SampleError::Velocity);
         }
         let speed = velocity.abs();
         let magnitude = command.abs();

@@ -191,11 +191,6 @@ impl fmt::Display for ConfigError {
 
 impl core::error::Error for ConfigError {}
 
-// The blocks reject a non-finite sample with the crate's one per-sample
-// error, [`SampleError`](crate::SampleError); `SignalError` is its name
-// inside this module.
-pub(crate) use crate::error::SampleError as SignalError;
-
 /// `Ok(x)` when `x` is finite and `> 0`, else the setting.
 pub(crate) fn positive(x: f32, setting: Setting) -> Result<f32, ConfigError> {
     if x.is_finite() && x > 0.0 {

@@ -26,8 +26,9 @@
 // wrap.
 #![allow(clippy::arithmetic_side_effects)]
 
-use super::{positive, ConfigError, Setting, SignalError};
+use super::{positive, ConfigError, Setting};
 use crate::scalar::{Scalar, Units};
+use crate::SampleError;
 
 /// Settings of a [`DisturbanceObserver`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -105,15 +106,15 @@ impl<T: Scalar> DisturbanceObserver<T> {
     /// model units for fixed point. Returns the estimate r [N] of the force
     /// not explained. A non-finite input is rejected and leaves the state
     /// unchanged.
-    pub fn update(&mut self, command: T, velocity: T, explained: T) -> Result<T, SignalError> {
+    pub fn update(&mut self, command: T, velocity: T, explained: T) -> Result<T, SampleError> {
         if !command.is_finite() {
-            return Err(SignalError::Command);
+            return Err(SampleError::Command);
         }
         if !velocity.is_finite() {
-            return Err(SignalError::Velocity);
+            return Err(SampleError::Velocity);
         }
         if !explained.is_finite() {
-            return Err(SignalError::Force);
+            return Err(SampleError::Force);
         }
         if let Some(last) = self.last_velocity {
             let revealed = command - self.mass_rate * (velocity - last);

@@ -52,9 +52,10 @@
 #![allow(clippy::arithmetic_side_effects)]
 
 use super::adaptation::ScaleStep;
-use super::{clamp, positive, setting_in, ConfigError, Feedforward, Setting, SignalError};
+use super::{clamp, positive, setting_in, ConfigError, Feedforward, Setting};
 use crate::position::Position;
 use crate::scalar::{Scalar, Units};
+use crate::SampleError;
 
 /// Settings of a [`StictionAdaptation`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -200,13 +201,13 @@ impl<T: Scalar> StictionAdaptation<T> {
         residual: T,
         feedforward: &Feedforward<P, T, N>,
         velocity: T,
-    ) -> Result<(T, T), SignalError> {
+    ) -> Result<(T, T), SampleError> {
         let regressors = [feedforward.coulomb_dry(), feedforward.stiction_dry()];
         if !(residual.is_finite() && regressors.iter().all(|h| h.is_finite())) {
-            return Err(SignalError::Force);
+            return Err(SampleError::Force);
         }
         if !velocity.is_finite() {
-            return Err(SignalError::Velocity);
+            return Err(SampleError::Velocity);
         }
         for (q, h) in self.filtered.iter_mut().zip(regressors) {
             *q = *q + self.alpha * (h - *q);

@@ -41,9 +41,10 @@
 // wrap.
 #![allow(clippy::arithmetic_side_effects)]
 
-use super::{positive, setting_in, ConfigError, Setting, SignalError};
+use super::{positive, setting_in, ConfigError, Setting};
 use crate::position::Position;
 use crate::scalar::{Scalar, Units};
+use crate::SampleError;
 
 /// Settings of a [`VelocityEstimator`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -163,11 +164,11 @@ impl<P: Position<T>, T: Scalar> VelocityEstimator<P, T> {
     /// Feeds the position sample of this period (a count, or metres) and
     /// returns v̂ [m/s] (model velocity units for fixed point). The first
     /// sample only sets the position (v̂ = 0). A non-finite sample is
-    /// rejected with [`SignalError::Position`] and leaves the state
+    /// rejected with [`SampleError::Position`] and leaves the state
     /// unchanged.
-    pub fn update(&mut self, position: P) -> Result<T, SignalError> {
+    pub fn update(&mut self, position: P) -> Result<T, SampleError> {
         if !position.is_valid() {
-            return Err(SignalError::Position);
+            return Err(SampleError::Position);
         }
         if let Some(last) = self.last {
             let moved = position.travel_from(last, self.scale);

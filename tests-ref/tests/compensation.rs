@@ -838,15 +838,11 @@ fn split_feedforward_is_the_reference_model_at_the_scaled_levels() {
         fs: theta_c * FIG5.fc + theta_s * (FIG5.fs - FIG5.fc),
         ..FIG5
     };
-    let judge_model = reference_model(&scaled, 1.0, 1.0);
-    let coulomb_model = reference_model(
-        &Params {
-            fs: FIG5.fc,
-            ..FIG5
-        },
-        1.0,
-        1.0,
-    );
+    let judge_model = reference_model(&scaled);
+    let coulomb_model = reference_model(&Params {
+        fs: FIG5.fc,
+        ..FIG5
+    });
     let mut judge = reference::Presliding::new(0.0);
     let mut coulomb_judge = reference::Presliding::new(0.0);
     let mut ff = Feedforward::<f32>::new(FeedforwardConfig::default(), 0.0, 1.0)
@@ -901,7 +897,7 @@ fn stiction_run(fc: f64, fs: f64, seconds: f64) -> ([f32; 2], [f32; 2], f32) {
     const T: f64 = 1e-3;
     let model = Model::<f32>::new(FIG5).unwrap();
     let fixed_model = Model::<Q16>::new(FIG5).unwrap();
-    let mut judge = reference_model(&FIG5, 1.0, 1.0);
+    let mut judge = reference_model(&FIG5);
     (judge.fc, judge.fs) = (fc, fs);
     let mut plant = Plant::new(judge);
     let mut ff = Feedforward::<f32>::new(FeedforwardConfig::default(), 0.0, 1.0)
@@ -1067,9 +1063,9 @@ fn stiction_adaptation_is_bounded_and_rejects_bad_samples() {
             .unwrap();
     }
     let before = a.clone();
-    assert_eq!(a.update(f32::NAN, &ff, 0.01), Err(SignalError::Force));
-    assert_eq!(a.update(f32::INFINITY, &ff, 0.01), Err(SignalError::Force));
-    assert_eq!(a.update(0.1, &ff, f32::NAN), Err(SignalError::Velocity));
+    assert_eq!(a.update(f32::NAN, &ff, 0.01), Err(SampleError::Force));
+    assert_eq!(a.update(f32::INFINITY, &ff, 0.01), Err(SampleError::Force));
+    assert_eq!(a.update(0.1, &ff, f32::NAN), Err(SampleError::Velocity));
     assert_eq!(a, before);
     a.reset();
     assert_eq!((a.coulomb_scale(), a.stiction_scale()), (1.0, 1.0));
