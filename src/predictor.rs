@@ -187,7 +187,8 @@ impl<T: Scalar> BreakAwayPredictor<T> {
         variant: Variant,
         k: T,
     ) -> Result<BreakAway<T>, PredictError> {
-        if !(k.is_finite() && k > T::ZERO) {
+        // Finite and positive (NaN fails both comparisons).
+        if !(k > T::ZERO && k <= T::MAX) {
             return Err(PredictError::InvalidRate);
         }
         let c = match self.rate {
@@ -195,8 +196,16 @@ impl<T: Scalar> BreakAwayPredictor<T> {
             RateScale::Over(inv_tau) => k / inv_tau,
         }
         .saturate();
-        let v_b = velocity_for(model, variant, c)?;
-        let s = model.curves.stribeck(v_b);
+        let (v_b, s) = match variant {
+            Variant::Consistent => model
+                .curves
+                .consistent_root(c)
+                .ok_or(PredictError::NoConvergence)?,
+            _ => {
+                let v_b = velocity_for(model, variant, c)?;
+                (v_b, model.curves.stribeck(v_b))
+            }
+        };
         let viscous = (model.sigma * v_b).saturate();
         Ok(BreakAway {
             v_b,
@@ -213,37 +222,47 @@ fn velocity_for<T: Scalar>(model: &Model<T>, variant: Variant, c: T) -> Result<T
         Variant::Coulomb => model.fc,
         Variant::Stiction => model.fs,
         Variant::Mean => model.fc + (model.fs - model.fc) / two,
-        Variant::Consistent => return consistent_velocity(model, c),
+        Variant::Consistent => {
+            return match model.curves.consistent_root(c) {
+                Some((v, _)) => Ok(v),
+                None => Err(PredictError::NoConvergence),
+            }
+        }
     };
     Ok((c / level).saturate())
 }
 
-/// The smallest positive root of v·S(v) = c.
+/// The smallest positive root of v·S(v) = c, and S there, by the
+/// fixed-point iteration (the default of
+/// [`Curves::consistent_root`](crate::Curves::consistent_root), and the
+/// fallback of the Newton solves where v·S(v) is not monotone).
 ///
-/// φ(v) = c/S(v) is non-decreasing, and v₀ = c/Fs lies below every root, so
-/// vₙ₊₁ = φ(vₙ) increases monotonically to the smallest root. The iteration
-/// converges linearly with rate q = φ′; it stops once the Aitken estimate of
-/// the remaining error, Δₙ·q/(1 − q), is below the number type's tolerance.
-fn consistent_velocity<T: Scalar>(model: &Model<T>, c: T) -> Result<T, PredictError> {
-    let mut v = (c / model.fs).saturate();
+/// φ(v) = c/S(v) is non-decreasing, and v₀ = c/S(0) = c/Fs lies below every
+/// root, so vₙ₊₁ = φ(vₙ) increases monotonically to the smallest root. The
+/// iteration converges linearly with rate q = φ′; it stops once the Aitken
+/// estimate of the remaining error, Δₙ·q/(1 − q), is below the number
+/// type's tolerance.
+#[inline(never)]
+pub(crate) fn fixed_point_root<T: Scalar, C: Curves<T>>(curves: &C, c: T) -> Option<(T, T)> {
+    let mut v = (c / curves.stribeck(T::ZERO)).saturate();
     let mut step = T::ZERO;
     for _ in 0..MAX_ITERATIONS {
-        let next = (c / model.curves.stribeck(v)).saturate();
+        let next = (c / curves.stribeck(v)).saturate();
         let delta = (next - v).abs();
         let tolerance = T::TOLERANCE * next;
         if delta <= tolerance {
-            return Ok(next);
+            return Some((next, curves.stribeck(next)));
         }
         if step > T::ZERO && delta < step {
             let q = delta / step;
             if delta * q <= tolerance * (T::ONE - q) {
-                return Ok(next);
+                return Some((next, curves.stribeck(next)));
             }
         }
         step = delta;
         v = next;
     }
-    Err(PredictError::NoConvergence)
+    None
 }
 
 impl BreakAwayPredictor<f32> {

@@ -145,6 +145,19 @@ pub trait Curves<T>: Sized + Clone {
     /// Presliding shape g(w) = w·(1 − ln w) for `w` in [0, 1]; 0 for `w ≤ 0`,
     /// 1 for `w ≥ 1` ([presliding](crate::model_overview#presliding)).
     fn shape(&self, w: T) -> T;
+    /// The smallest positive root v of v·S(v) = `c` for `c` ≥ 0 (the
+    /// break-away velocity of [`Variant::Consistent`](crate::Variant)), and
+    /// S(v); `None` when the solve does not converge.
+    ///
+    /// The default is the fixed-point iteration v ← c/S(v) from c/S(0)
+    /// ([`predictor`](crate::predictor)); `f32` and [`Q16`](crate::Q16)
+    /// replace it by a safeguarded Newton iteration on the tables.
+    fn consistent_root(&self, c: T) -> Option<(T, T)>
+    where
+        T: Scalar,
+    {
+        crate::predictor::fixed_point_root(self, c)
+    }
 }
 
 impl Scalar for f32 {

@@ -58,7 +58,17 @@ pub fn target(triple: &str) -> Result<Target, String> {
 /// Builds a firmware example in release mode (features `firmware` and
 /// `hal`); returns the ELF's path.
 pub fn build(example: &str, target: Target) -> Result<PathBuf, String> {
-    run(cargo().args([
+    build_with_env(example, target, &[])
+}
+
+/// As [`build`], with environment variables for the build (read by the
+/// example with `option_env!`: cargo rebuilds it when they change).
+pub fn build_with_env(
+    example: &str,
+    target: Target,
+    envs: &[(&str, &str)],
+) -> Result<PathBuf, String> {
+    run(cargo().envs(envs.iter().copied()).args([
         "build",
         "--quiet",
         "--release",
