@@ -75,8 +75,8 @@ pub struct CurvesF32 {
     v_stribeck: f32,
     /// (Fc + Fs)/2 [N]: the consistent root's first guess, y/S_mean.
     mean: f32,
-    /// u·S(u) is non-decreasing, Fs − Fc ≤ Fc·e^(1 + 1/δ): the consistent
-    /// root is then the only root and the Newton solve applies.
+    /// u·S(u) is non-decreasing, (Fs − Fc)·δ ≤ Fc·e^(1 + 1/δ): the
+    /// consistent root is then the only root and the Newton solve applies.
     monotone: bool,
     /// The shape exponent δ (below the table when δ < 0.82).
     delta: f32,
@@ -219,8 +219,9 @@ impl Curves<f32> for CurvesF32 {
         (self.low, self.high) = (p.fc.min(p.fs), p.fc.max(p.fs));
         (self.v_stribeck, self.mean) = (p.v_stribeck, fc + 0.5 * rise);
         // d(u·S)/du = Fc + (Fs − Fc)·e^(−x)·(1 − δ·x) with x = u^δ, least
-        // at x = 1 + 1/δ; a margin of 1 % for the rounding of e^(1 + 1/δ).
-        self.monotone = rise <= 0.99 * fc * libm::expf(1.0 + 1.0 / delta);
+        // at x = 1 + 1/δ, where it is Fc − (Fs − Fc)·δ·e^(−1 − 1/δ); a
+        // margin of 1 % for the rounding.
+        self.monotone = rise * delta <= 0.99 * fc * libm::expf(1.0 + 1.0 / delta);
         self.stribeck
             .fill(delta, |u| fc + rise * fastmath::exp_neg(power(u, delta)));
     }
@@ -249,8 +250,8 @@ impl Curves<f32> for CurvesF32 {
     /// Newton's iteration on h(u) = u·S(u) − y (u = v/V, y = c/V) with the
     /// slope of the table's segment polynomial (Horner's scheme gives both),
     /// from y/S_mean, S_mean = (Fc + Fs)/2. h is non-decreasing for the
-    /// models with Fs − Fc ≤ Fc·e^(1 + 1/δ) (every model with
-    /// Fs ≤ 3.7·Fc): the root is the only one, and Newton's iteration
+    /// models with (Fs − Fc)·δ ≤ Fc·e^(1 + 1/δ) (for δ ≤ 1 every model with
+    /// Fs ≤ 8.3·Fc, for δ ≤ 2 with Fs ≤ 3.2·Fc): the root is the only one, and Newton's iteration
     /// converges quadratically to it, eₙ₊₁ ≈ C·eₙ². The iteration stops
     /// once the error estimated after a step, stepₙ³/stepₙ₋₁² (relative, C
     /// estimated as stepₙ/stepₙ₋₁²), is below 2⁻²⁴; S(v) is the last S

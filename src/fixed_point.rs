@@ -266,6 +266,51 @@ fn floor_log2_table(r: u32) -> u32 {
     e | u32::from(LOG2_BYTE.get(x as usize).copied().unwrap_or(0))
 }
 
+/// ⌊2³⁰/m⌉ at m = 1 + i/256 for i in 0..=256 (in (2²⁹, 2³⁰]), generated at
+/// compile time: the reciprocal table of [`div_positive_raw`] (1 028 bytes
+/// of flash, linked only where the predictor is).
+#[allow(clippy::indexing_slicing, clippy::arithmetic_side_effects)]
+const RECIPROCAL: [u32; 257] = {
+    let mut table = [0u32; 257];
+    let mut i = 0;
+    while i < 257 {
+        let d = 256 + i as u64;
+        table[i] = (((1u64 << 38) + d / 2) / d) as u32;
+        i += 1;
+    }
+    table
+};
+
+/// a·2¹⁶/b rounded, for a ≥ 0 and b > 0 (raw Q16.16: the raw quotient),
+/// within a relative 5e-6 plus one raw unit, saturated at `i32::MAX`; 0
+/// for b = 0 (callers pass b > 0). No division: b = m·2ᵉ with m in [1, 2)
+/// from ⌊log2 b⌋, 2³⁰/m interpolated linearly in [`RECIPROCAL`] (error
+/// below 3.8e-6), then a·(2³⁰/m)/2^(14 + e): one exact product and one
+/// rounding shift.
+#[inline(always)]
+fn div_positive_raw(a: u32, b: u32) -> i32 {
+    if b == 0 {
+        return 0;
+    }
+    let e = floor_log2(b);
+    // b with its leading one at bit 31: the next 8 bits pick the segment,
+    // the 16 after them are the interpolation fraction.
+    let normalized = b << 31u32.wrapping_sub(e);
+    let i = ((normalized >> 23) & 0xff) as usize;
+    let frac = (normalized >> 7) & 0xffff;
+    let r0 = RECIPROCAL.get(i).copied().unwrap_or(1 << 29);
+    let r1 = RECIPROCAL
+        .get(i.wrapping_add(1))
+        .copied()
+        .unwrap_or(1 << 29);
+    // r0 − r1 < 2²², so (r0 − r1)/2⁶ times a 16-bit fraction fits 32 bits.
+    let inverse = r0.wrapping_sub(((r0.wrapping_sub(r1) >> 6).wrapping_mul(frac)) >> 10);
+    // a < 2³¹ (clamped by one unit at most), inverse ≤ 2³⁰: exact in 62 bits.
+    let a = a.min(i32::MAX as u32) as i32;
+    let product = exact_product(a, inverse as i32);
+    shift_round((product >> 32) as i32, product as u32, e.wrapping_add(14))
+}
+
 impl<const K: usize> Div for Q16<K> {
     type Output = Self;
     /// Saturating division; x/0 saturates by the sign of x (0/0 = 0).
@@ -313,6 +358,18 @@ impl<const K: usize> Scalar for Q16<K> {
     #[inline(always)]
     fn saturate(self) -> Self {
         self
+    }
+    /// The quotient from a reciprocal table ([`div_positive_raw`]): within
+    /// a relative 5e-6 plus one raw unit of the exact quotient, for `rhs` >
+    /// 0 (else the exact division).
+    #[inline(always)]
+    fn div_approx(self, rhs: Self) -> Self {
+        let (a, b) = (self.to_bits(), rhs.to_bits());
+        if b <= 0 {
+            return self / rhs;
+        }
+        let q = div_positive_raw(a.unsigned_abs(), b as u32);
+        Self::from_bits(if a < 0 { q.wrapping_neg() } else { q })
     }
     /// The rounded product without the saturation check: exact as long as
     /// it fits, which the callers guarantee (|product| ≤ 256 < 32768).
@@ -624,6 +681,37 @@ impl<const K: usize, const E: usize> OctaveTable<K, E> {
         self.end = bits(libm::ldexpf(1.0, E as i32) / 65536.0);
     }
 
+    /// f at the raw argument `r` (clamped to the grid), interpolated, and
+    /// r·f′(r) on its cell, to 2⁻¹⁰ relative (0 off the grid): with
+    /// r = 2ᵉ·m, m in [1, 2), the cell spans 2ᵉ/K, so r·f′ = (y₁ − y₀)·K·m.
+    #[inline(always)]
+    fn lookup_with_slope(&self, r: u32) -> (i32, i32) {
+        if r == 0 {
+            return (self.zero, 0);
+        }
+        let e = floor_log2(r);
+        if e as usize >= E {
+            return (self.end, 0);
+        }
+        let normalized = r << 31u32.wrapping_sub(e);
+        let j = (normalized << 1) >> 32u32.wrapping_sub(Self::LOG_K);
+        let frac14 = (normalized << Self::LOG_K.wrapping_add(1)) >> 18;
+        let index = (e as usize).wrapping_mul(K).wrapping_add(j as usize);
+        let flat = self.rows.as_flattened();
+        let y0 = flat.get(index).map_or(self.end, |&c| cell_value(c));
+        let y1 = flat
+            .get(index.wrapping_add(1))
+            .map_or(self.end, |&c| cell_value(c));
+        // |y1 − y0| < 2¹⁷ and m·2¹⁰ < 2¹¹: the products fit.
+        let rise = y1.wrapping_sub(y0);
+        let value = y0.wrapping_add(rise.wrapping_mul(frac14 as i32) >> 14);
+        let m = (normalized >> 21) as i32;
+        (
+            value,
+            rise.wrapping_mul(m) >> 10u32.wrapping_sub(Self::LOG_K),
+        )
+    }
+
     /// f at the raw argument `r` (clamped to the grid), interpolated.
     #[inline(always)]
     fn lookup(&self, r: u32) -> i32 {
@@ -662,6 +750,11 @@ impl<const K: usize, const E: usize> OctaveTable<K, E> {
 #[derive(Clone, Debug, PartialEq)]
 pub struct TableCurves<const K: usize> {
     stribeck: OctaveTable<K, STRIBECK_OCTAVES>,
+    /// The first guess of the consistent root's Newton iteration, 1/S_mean
+    /// = 2/(1 + Fc/Fs) in raw Q16.16, where v·S(v) is monotone
+    /// ((Fs − Fc)·δ ≤ Fc·e^(1 + 1/δ)); 0 where it is not (the fixed-point
+    /// iteration then finds the smallest root).
+    newton_start: i32,
 }
 
 impl<const K: usize> TableCurves<K> {
@@ -672,6 +765,7 @@ impl<const K: usize> TableCurves<K> {
             rows: [[0; K]; STRIBECK_OCTAVES],
             end: 1 << 16,
         },
+        newton_start: 1 << 16,
     };
 }
 
@@ -695,6 +789,15 @@ impl<const K: usize> Curves<Q16<K>> for TableCurves<K> {
         let delta = p.delta;
         self.stribeck
             .fill(|u| fc + (1.0 - fc) * libm::expf(-libm::powf(u, delta)));
+        // d(v·S)/dv = Fc + (Fs − Fc)·e^(−x)·(1 − δ·x), x = (v/V)^δ, least
+        // at x = 1 + 1/δ, where it is Fc − (Fs − Fc)·δ·e^(−1 − 1/δ); a
+        // margin of 1 % for the rounding.
+        let monotone = (1.0 - fc) * delta <= 0.99 * fc * libm::expf(1.0 + 1.0 / delta);
+        self.newton_start = if monotone {
+            libm::roundf(2.0 / (1.0 + fc) * 65536.0) as i32
+        } else {
+            0
+        };
     }
 
     #[inline(always)]
@@ -711,11 +814,62 @@ impl<const K: usize> Curves<Q16<K>> for TableCurves<K> {
         }
         Q16::from_bits(SHAPE.lookup(bits as u32))
     }
+
+    /// Newton's iteration on h(v) = v·S(v) − c in raw Q16.16 (S per unit
+    /// of Fs, so the root lies in [c, c·Fs/Fc]), from c/S_mean, with S and
+    /// v·S′ from the table's cell ([`OctaveTable::lookup_with_slope`]) and
+    /// the step h/h′ from the reciprocal table ([`div_positive_raw`]):
+    /// no division instruction. h′ = S + v·S′ > 0 where v·S is monotone
+    /// ((Fs − Fc)·δ ≤ Fc·e^(1 + 1/δ)): the root is the only one and the
+    /// iteration converges quadratically (the slope to 2⁻¹⁰ adds a factor
+    /// 2⁻¹⁰ per step). It stops once a step is below 2⁻⁸ of v: the error
+    /// left is then about C·2⁻¹⁶ (C = v·|h″|/(2·h′) < 1) plus 2⁻¹⁸,
+    /// below the fixed-point iteration's tolerance 2⁻¹³; S(v) is then
+    /// looked up. Where v·S is not monotone, when c ≤ 0, or when eight
+    /// steps do not converge, the default fixed-point iteration.
+    fn consistent_root(&self, c: Q16<K>) -> Option<(Q16<K>, Q16<K>)> {
+        let target = c.to_bits();
+        if self.newton_start == 0 || target <= 0 {
+            return crate::predictor::fixed_point_root(self, c);
+        }
+        // c·2/(1 + Fc/Fs), saturated: at most 2³¹ − 1.
+        let mut v = (c * Q16::from_bits(self.newton_start)).to_bits().max(1);
+        for _ in 0..NEWTON_ITERATIONS {
+            let (s, slope) = self.stribeck.lookup_with_slope(v as u32);
+            // v·S ≤ v (S ≤ 1): the product is in range; |h| < 2³¹.
+            let h = Q16::<K>::from_bits(v)
+                .mul_in_range(Q16::from_bits(s))
+                .to_bits()
+                .wrapping_sub(target);
+            let derivative = s.wrapping_add(slope);
+            if derivative <= 0 {
+                break;
+            }
+            let step = div_positive_raw(h.unsigned_abs(), derivative as u32);
+            let next = if h < 0 {
+                v.saturating_add(step)
+            } else {
+                v.saturating_sub(step).max(1)
+            };
+            if step <= next >> 8 {
+                let v_b = Q16::from_bits(next);
+                return Some((v_b, Q16::from_bits(self.stribeck.lookup(next as u32))));
+            }
+            v = next;
+        }
+        crate::predictor::fixed_point_root(self, c)
+    }
 }
+
+/// At most this many Newton steps for the consistent root before the
+/// fixed-point iteration takes over.
+const NEWTON_ITERATIONS: usize = 8;
 
 #[cfg(test)]
 mod tests {
+    extern crate std;
     use super::*;
+    use std::println;
 
     /// The ARMv6-M multiply equals the 64-bit one on random and extreme
     /// operands (it only runs on the M0; here it is checked on the host).
@@ -925,6 +1079,172 @@ mod tests {
                 "S at {r}"
             );
         }
+    }
+
+    /// The table division is within a relative 5e-6 plus one raw unit of
+    /// the exact quotient, for random and extreme operands, and saturates.
+    #[test]
+    fn table_division_within_its_bound() {
+        let mut x: u64 = 0x2545_f491_4f6c_dd1d;
+        let mut next = || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            x
+        };
+        let extremes = [
+            1u32,
+            2,
+            3,
+            255,
+            256,
+            257,
+            65535,
+            65536,
+            65537,
+            1 << 30,
+            u32::MAX >> 1,
+        ];
+        let mut worst = 0.0f64;
+        let mut check = |a: u32, b: u32| {
+            let exact = f64::from(a) * 65536.0 / f64::from(b);
+            let got = div_positive_raw(a, b);
+            if exact >= f64::from(i32::MAX) {
+                assert!(
+                    f64::from(got) >= f64::from(i32::MAX) * (1.0 - 5e-6),
+                    "{a}/{b}"
+                );
+            } else {
+                let err = (f64::from(got) - exact).abs();
+                assert!(err <= 5e-6 * exact + 1.0, "{a}/{b}: {got} for {exact}");
+                if exact > 1e6 {
+                    worst = worst.max(err / exact);
+                }
+            }
+        };
+        for &a in &extremes {
+            for &b in &extremes {
+                check(a, b);
+            }
+        }
+        for _ in 0..1_000_000 {
+            let a = (next() as u32) >> (next() % 32);
+            let b = ((next() as u32) >> (next() % 32)).max(1);
+            check(a.min(i32::MAX as u32), b.min(i32::MAX as u32));
+        }
+        assert_eq!(div_positive_raw(5, 0), 0);
+        println!("table division: worst relative error {worst:.2e}");
+        assert!(worst < 5e-6, "{worst}");
+    }
+
+    /// r·f′(r) from the cell equals the interpolated f's difference
+    /// quotient across the cell to 2⁻¹⁰ relative (plus rounding).
+    #[test]
+    fn lookup_slope_matches_difference_quotient() {
+        let curves = TableCurves::<16>::build(&Params {
+            fc: 1.0,
+            fs: 2.5,
+            v_stribeck: 1e-3,
+            delta: 0.8,
+            sigma: 0.0,
+            z_max: 1e-5,
+            epsilon: 0.0,
+        });
+        let table = &curves.stribeck;
+        for e in 5..30u32 {
+            for j in 0..16u32 {
+                // Two points inside one cell of octave e.
+                let width = (1u32 << e) / 16;
+                let r0 = (1u32 << e) + j * width + width / 4;
+                let r1 = r0 + width / 2;
+                let (y0, slope) = table.lookup_with_slope(r0);
+                assert_eq!(y0, table.lookup(r0));
+                let quotient =
+                    f64::from(table.lookup(r1) - y0) / f64::from(r1 - r0) * f64::from(r0);
+                let tolerance =
+                    quotient.abs() / 1024.0 + 2.0 * f64::from(r0) / f64::from(width) + 1.0;
+                assert!(
+                    (f64::from(slope) - quotient).abs() <= tolerance,
+                    "e = {e}, j = {j}: {slope} for {quotient}"
+                );
+            }
+        }
+        assert_eq!(table.lookup_with_slope(0), (table.zero, 0));
+        assert_eq!(table.lookup_with_slope(u32::MAX).1, 0);
+    }
+
+    /// The Newton solve of the consistent root finds the root of
+    /// v·S(v) = c on the table (found here by bisection over the raw
+    /// values, in 64-bit integers) to 2⁻¹³ relative plus two raw units, on
+    /// random models (Fs/Fc from 1 to 4, δ from 0.3 to 4) and rates; the
+    /// fixed-point iteration (the default, and the fallback where v·S is
+    /// not monotone) to its own tolerance, which a slow contraction
+    /// widens (2e-3 here).
+    #[test]
+    fn consistent_newton_finds_the_table_root() {
+        let mut x: u64 = 0x9e37_79b9_7f4a_7c15;
+        let mut uniform = || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (x >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let (mut newton, mut worst, mut worst_fixed) = (0, 0.0f64, 0.0f64);
+        for _ in 0..3000 {
+            let p = Params {
+                fc: 1.0,
+                fs: (1.0 + 3.0 * uniform()) as f32,
+                v_stribeck: 1e-3,
+                delta: (0.3 + 3.7 * uniform()) as f32,
+                sigma: 0.0,
+                z_max: 1e-5,
+                epsilon: 0.0,
+            };
+            let curves = TableCurves::<16>::build(&p);
+            let c = (2f64.powf(4.0 + 26.0 * uniform())) as i32;
+            // The smallest raw v with v·S(v) ≥ c·2¹⁶ (where v·S is
+            // monotone), bisected; none when it saturates.
+            let h = |v: i64| v * i64::from(curves.stribeck.lookup(v as u32)) - (i64::from(c) << 16);
+            let (mut low, mut high) = (i64::from(c) - 1, i64::from(i32::MAX));
+            if curves.newton_start == 0 || h(high) < 0 {
+                continue;
+            }
+            while high - low > 1 {
+                let mid = (low + high) / 2;
+                if h(mid) >= 0 {
+                    high = mid;
+                } else {
+                    low = mid;
+                }
+            }
+            newton += 1;
+            let root = high as f64;
+            let got = curves.consistent_root(Q16::from_bits(c)).unwrap();
+            let err = (f64::from(got.0.to_bits()) - root).abs();
+            assert!(
+                err <= root / 8192.0 + 2.0,
+                "{p:?}, c = {c}: {got:?}, root {root}"
+            );
+            assert_eq!(
+                got.1,
+                Q16::from_bits(curves.stribeck.lookup(got.0.to_bits() as u32))
+            );
+            let fixed =
+                crate::predictor::fixed_point_root(&curves, Q16::<16>::from_bits(c)).unwrap();
+            let err_fixed = (f64::from(fixed.0.to_bits()) - root).abs();
+            assert!(
+                err_fixed <= root * 2e-3 + 2.0,
+                "{p:?}, c = {c}: {fixed:?}, root {root}"
+            );
+            if root > 1e4 {
+                worst = worst.max(err / root);
+                worst_fixed = worst_fixed.max(err_fixed / root);
+            }
+        }
+        println!(
+            "consistent root on the table: Newton within {worst:.2e}, fixed-point iteration {worst_fixed:.2e}"
+        );
+        assert!(newton > 2000, "{newton}");
     }
 
     #[test]

@@ -193,7 +193,7 @@ impl<T: Scalar> BreakAwayPredictor<T> {
         }
         let c = match self.rate {
             RateScale::Times(tau) => k * tau,
-            RateScale::Over(inv_tau) => k / inv_tau,
+            RateScale::Over(inv_tau) => k.div_approx(inv_tau),
         }
         .saturate();
         let (v_b, s) = match variant {
@@ -210,7 +210,9 @@ impl<T: Scalar> BreakAwayPredictor<T> {
         Ok(BreakAway {
             v_b,
             f_ba: (s + viscous).saturate(),
-            t_ba: ((s * self.shape_at_boundary + viscous) / k).saturate(),
+            t_ba: (s * self.shape_at_boundary + viscous)
+                .div_approx(k)
+                .saturate(),
         })
     }
 }

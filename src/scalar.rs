@@ -91,6 +91,16 @@ pub trait Scalar:
         self * rhs
     }
 
+    /// `self`/`rhs` for `rhs` > 0 where a quotient to within a few parts
+    /// in a million is enough (the break-away predictor's force rate and
+    /// time): a fixed-point type replaces its exact 64-bit division by a
+    /// reciprocal from a table (no divide instruction on ARMv6-M). Exact
+    /// (IEEE) for `f32`; any `rhs` ≤ 0 takes the exact division.
+    #[inline(always)]
+    fn div_approx(self, rhs: Self) -> Self {
+        self / rhs
+    }
+
     /// The smaller of two numbers.
     #[inline(always)]
     fn min(self, other: Self) -> Self {
