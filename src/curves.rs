@@ -510,6 +510,52 @@ mod tests {
         assert!(worst.0 < MAX_STRIBECK_ERROR, "{worst:?}");
     }
 
+    /// dS/du of the table (its segment polynomial's derivative, or the
+    /// kernels' below a table that stops short) against the f64 derivative,
+    /// for δ from 0.1 to 8 and u over 24 decades: u·|ΔS′| within 2e-4 of
+    /// (Fs − Fc)·max(δ, 1), the scale of u·|S′| (measured 9.4e-5; the
+    /// Newton solve of the consistent root needs the slope to far less).
+    #[test]
+    fn stribeck_slope_against_f64() {
+        let mut worst = (0.0f64, 0.0f32, 0.0f32);
+        let mut delta = 0.1f32;
+        while delta < 8.0 {
+            let p = Params {
+                fc: 1.0,
+                fs: 2.5,
+                v_stribeck: 1e-3,
+                delta,
+                sigma: 0.0,
+                z_max: 1e-5,
+                epsilon: 0.0,
+            };
+            let curves = CurvesF32::build(&p);
+            let mut log_u = -20.0f64;
+            while log_u < 4.0 {
+                let u = 10f64.powf(log_u);
+                let (s, slope) = curves.stribeck_and_slope(u as f32);
+                let d = f64::from(delta);
+                let x = u.powf(d);
+                let want = -1.5 * d * x / u * (-x).exp();
+                let err = (f64::from(slope) - want).abs() * u / (1.5 * d.max(1.0));
+                assert!(
+                    (f64::from(s) - stribeck_f64(&p, u * 1e-3)).abs() < 1e-5,
+                    "S at u = {u}, δ = {delta}"
+                );
+                if err > worst.0 {
+                    worst = (err, delta, u as f32);
+                }
+                log_u += 1.0 / 500.0;
+            }
+            delta *= 1.13;
+        }
+        println!(
+            "stribeck slope: worst error {:.3e} (u·|ΔS′|/((Fs − Fc)·max(δ, 1))) at δ = {}, u = {}",
+            worst.0, worst.1, worst.2
+        );
+        assert!(worst.0 < 2e-4, "{worst:?}");
+    }
+
     #[test]
     fn shape_against_f64() {
         let mut worst = 0.0f64;
