@@ -46,7 +46,7 @@
 //! relative while v_b ≥ 1e-3·V (below, the velocity resolution 1.5e-5·V moves
 //! S(v_b) by up to (1.5e-5)^δ·(Fs − Fc) relative to Fs, 4e-3·(Fs − Fc) for
 //! δ = 0.5).
-//! The worst cases measured there: 5.1e-4·Fs for the friction, 2.3e-4 for
+//! The worst cases measured there: 5.1e-4·Fs for the friction, 2.1e-4 for
 //! F_ba.
 //!
 //! ```
@@ -85,7 +85,7 @@
 //! [`Model::new`](crate::Model::new) returns the model by value, which may copy
 //! the table through the stack. [`Model::set_params`](crate::Model::set_params)
 //! builds it where the model lives, starting from the `const`
-//! [`Model::UNIT_COULOMB`](crate::Model::UNIT_COULOMB): 460 bytes of stack on
+//! [`Model::UNIT_COULOMB`](crate::Model::UNIT_COULOMB): 452 bytes of stack on
 //! the Cortex-M0
 //! ([`cargo xtask profile`](https://github.com/breakaway-rs/breakaway/blob/main/docs/cycle-budget.md),
 //! row `new_model_fixed`).

@@ -17,10 +17,22 @@
 //! ```
 //!
 //! with F̂ one of four [`Variant`]s. `Consistent` takes F̂ = S(v_b), the
-//! smallest positive root of v·S(v) = −k·z_max/ln w_b. The map
-//! v ↦ c/S(v) is non-decreasing (S falls with |v|), so the fixed-point
-//! iteration from c/Fs climbs monotonically to the smallest root; it stops
-//! when the Aitken estimate of the remaining error falls below a few ulp.
+//! smallest positive root of v·S(v) = c = −k·z_max/ln w_b, solved by the
+//! number type's curves ([`Curves::consistent_root`]):
+//!
+//! - where v·S(v) is monotone — d(v·S)/dv = Fc + (Fs − Fc)·e^(−x)·(1 − δ·x),
+//!   x = (v/V)^δ, is least at x = 1 + 1/δ, so (Fs − Fc)·δ ≤ Fc·e^(1 + 1/δ),
+//!   every model with Fs ≤ 8.3·Fc at δ = 1 and with Fs ≤ 3.2·Fc at δ = 2
+//!   — the root is the only one, and Newton's iteration finds it from
+//!   c/S_mean with the slope of the model's Stribeck table: two or three
+//!   evaluations of S (`f32`: the segment polynomial and its derivative;
+//!   [`Q16`](crate::Q16): the table's cell, the steps from a reciprocal
+//!   table, no division instruction);
+//! - elsewhere, and as the fallback of the Newton solve, the fixed-point
+//!   iteration: the map v ↦ c/S(v) is non-decreasing (S falls with |v|),
+//!   so the iteration from c/Fs climbs monotonically to the smallest root;
+//!   it stops when the Aitken estimate of the remaining error falls below a
+//!   few ulp.
 //!
 //! The quasi-static result holds while inertia is negligible in presliding,
 //! roughly m·k²·z_max / (F̂³·w_b·|ln w_b|³) ≪ 1
@@ -129,8 +141,8 @@ impl core::error::Error for PredictError {}
 /// Predicts break-away for one model and one boundary w_b.
 ///
 /// The constants that involve logarithms are computed once here, so a
-/// prediction costs one S(v) evaluation per closed-form variant (a few for
-/// `Consistent`).
+/// prediction costs one S(v) evaluation per closed-form variant (two or
+/// three, with their slopes, for `Consistent`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct BreakAwayPredictor<T> {

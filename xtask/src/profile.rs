@@ -87,10 +87,6 @@ fn marker_delta(symbol: &str) -> Option<f64> {
         .ok()
 }
 
-/// The build-time variable that restricts the example to some rows (names
-/// of [`ROWS`], comma-separated): `--rows`.
-const ROWS_VARIABLE: &str = "BREAKAWAY_PROFILE_ROWS";
-
 /// Every (row, δ) the profile reports, in the order it reports them: the
 /// rows of [`ROWS`] at δ = 1 (today's rows, first, so that the first row of
 /// a name is still its δ = 1 row), then each of [`DELTA_ROWS`] at every δ
@@ -347,10 +343,12 @@ fn singlestep_args() -> Vec<&'static str> {
 /// (the stack pass and what follows it are never logged in full).
 ///
 /// `only` restricts the profile to some rows (all when empty): the example
-/// is built with [`ROWS_VARIABLE`] naming them and runs only their passes.
+/// is built with [`qemu::PROFILE_ROWS_VARIABLE`] naming them and runs only their passes.
 pub fn measure(target: Target, only: &[String]) -> Result<Vec<Row>, String> {
     let filter = only.join(",");
-    let elf = qemu::build_with_env("cycle_budget", target, &[(ROWS_VARIABLE, &filter)])?;
+    // Unset for every row: the same build as `cargo xtask qemu`'s.
+    let value = (!only.is_empty()).then_some(filter.as_str());
+    let elf = qemu::build_with_env("cycle_budget", target, &[(qemu::PROFILE_ROWS_VARIABLE, value)])?;
     eprintln!(
         "xtask: profiling cycle_budget on {} ({})",
         target.core, target.machine
