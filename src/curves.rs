@@ -463,6 +463,19 @@ mod tests {
     /// the rounding of g itself near 1).
     const MAX_SHAPE_ERROR: f64 = 1e-7;
 
+    /// Fc = 1 N, Fs = 2.5 N, V = 1 mm/s and the shape exponent `delta`.
+    fn params(delta: f32) -> Params {
+        Params {
+            fc: 1.0,
+            fs: 2.5,
+            v_stribeck: 1e-3,
+            delta,
+            sigma: 0.0,
+            z_max: 1e-5,
+            epsilon: 0.0,
+        }
+    }
+
     fn stribeck_f64(p: &Params, v: f64) -> f64 {
         let (fc, fs) = (f64::from(p.fc), f64::from(p.fs));
         fc + (fs - fc) * (-(v.abs() / f64::from(p.v_stribeck)).powf(f64::from(p.delta))).exp()
@@ -473,15 +486,7 @@ mod tests {
         let mut worst = (0.0f64, 0.0f32, 0.0f32);
         let mut delta = 0.1f32;
         while delta < 8.0 {
-            let p = Params {
-                fc: 1.0,
-                fs: 2.5,
-                v_stribeck: 1e-3,
-                delta,
-                sigma: 0.0,
-                z_max: 1e-5,
-                epsilon: 0.0,
-            };
+            let p = params(delta);
             let curves = CurvesF32::build(&p);
             let mut worst_here = 0.0f64;
             // u from 1e-30 to 1e9, 4000 points per decade, and 0.
@@ -520,15 +525,7 @@ mod tests {
         let mut worst = (0.0f64, 0.0f32, 0.0f32);
         let mut delta = 0.1f32;
         while delta < 8.0 {
-            let p = Params {
-                fc: 1.0,
-                fs: 2.5,
-                v_stribeck: 1e-3,
-                delta,
-                sigma: 0.0,
-                z_max: 1e-5,
-                epsilon: 0.0,
-            };
+            let p = params(delta);
             let curves = CurvesF32::build(&p);
             let mut log_u = -20.0f64;
             while log_u < 4.0 {

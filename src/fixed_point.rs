@@ -359,13 +359,15 @@ impl<const K: usize> Scalar for Q16<K> {
     fn saturate(self) -> Self {
         self
     }
-    /// The quotient from a reciprocal table ([`div_positive_raw`]): within
+    /// The quotient from a reciprocal table (`div_positive_raw`): within
     /// a relative 5e-6 plus one raw unit of the exact quotient, for `rhs` >
     /// 0 (else the exact division).
     #[inline(always)]
     fn div_approx(self, rhs: Self) -> Self {
         let (a, b) = (self.to_bits(), rhs.to_bits());
         if b <= 0 {
+            // The saturating division of this type (the `Scalar` contract).
+            #[allow(clippy::arithmetic_side_effects)]
             return self / rhs;
         }
         let q = div_positive_raw(a.unsigned_abs(), b as u32);
@@ -681,29 +683,52 @@ impl<const K: usize, const E: usize> OctaveTable<K, E> {
         self.end = bits(libm::ldexpf(1.0, E as i32) / 65536.0);
     }
 
+    /// Where the raw argument `r` falls on the grid: the flat index of its
+    /// cell's first point, r normalized to bit 31 and the 14-bit
+    /// interpolation fraction; `Err` with f there when r is 0 or beyond
+    /// the grid.
+    #[inline(always)]
+    fn cell(&self, r: u32) -> Result<(usize, u32, u32), i32> {
+        if r == 0 {
+            return Err(self.zero);
+        }
+        // r ≠ 0: 2ᵉ ≤ r < 2ᵉ⁺¹.
+        let e = floor_log2(r);
+        if e as usize >= E {
+            return Err(self.end);
+        }
+        // r with its leading one at bit 31 (e ≤ 31): the next log2 K bits
+        // are the column j, the 14 after them the interpolation fraction
+        // (0 when r is a grid point, as every r below K is). The shifts
+        // stay within [0, 32) by construction (2 ≤ log2 K ≤ 8).
+        let normalized = r << 31u32.wrapping_sub(e);
+        let j = (normalized << 1) >> 32u32.wrapping_sub(Self::LOG_K);
+        let frac14 = (normalized << Self::LOG_K.wrapping_add(1)) >> 18;
+        let index = (e as usize).wrapping_mul(K).wrapping_add(j as usize);
+        Ok((index, normalized, frac14))
+    }
+
+    /// f at the grid point `index` (flat), or at the end of the grid.
+    #[inline(always)]
+    fn point(&self, index: usize) -> i32 {
+        self.rows
+            .as_flattened()
+            .get(index)
+            .map_or(self.end, |&c| cell_value(c))
+    }
+
     /// f at the raw argument `r` (clamped to the grid), interpolated, and
     /// r·f′(r) on its cell, to 2⁻¹⁰ relative (0 off the grid): with
     /// r = 2ᵉ·m, m in [1, 2), the cell spans 2ᵉ/K, so r·f′ = (y₁ − y₀)·K·m.
     #[inline(always)]
     fn lookup_with_slope(&self, r: u32) -> (i32, i32) {
-        if r == 0 {
-            return (self.zero, 0);
-        }
-        let e = floor_log2(r);
-        if e as usize >= E {
-            return (self.end, 0);
-        }
-        let normalized = r << 31u32.wrapping_sub(e);
-        let j = (normalized << 1) >> 32u32.wrapping_sub(Self::LOG_K);
-        let frac14 = (normalized << Self::LOG_K.wrapping_add(1)) >> 18;
-        let index = (e as usize).wrapping_mul(K).wrapping_add(j as usize);
-        let flat = self.rows.as_flattened();
-        let y0 = flat.get(index).map_or(self.end, |&c| cell_value(c));
-        let y1 = flat
-            .get(index.wrapping_add(1))
-            .map_or(self.end, |&c| cell_value(c));
+        let (index, normalized, frac14) = match self.cell(r) {
+            Ok(cell) => cell,
+            Err(value) => return (value, 0),
+        };
+        let y0 = self.point(index);
+        let rise = self.point(index.wrapping_add(1)).wrapping_sub(y0);
         // |y1 − y0| < 2¹⁷ and m·2¹⁰ < 2¹¹: the products fit.
-        let rise = y1.wrapping_sub(y0);
         let value = y0.wrapping_add(rise.wrapping_mul(frac14 as i32) >> 14);
         let m = (normalized >> 21) as i32;
         (
@@ -715,30 +740,15 @@ impl<const K: usize, const E: usize> OctaveTable<K, E> {
     /// f at the raw argument `r` (clamped to the grid), interpolated.
     #[inline(always)]
     fn lookup(&self, r: u32) -> i32 {
-        if r == 0 {
-            return self.zero;
-        }
-        // r ≠ 0: 2ᵉ ≤ r < 2ᵉ⁺¹.
-        let e = floor_log2(r);
-        if e as usize >= E {
-            return self.end;
-        }
-        // r with its leading one at bit 31 (e ≤ 31): the next log2 K bits
-        // are the column j, the 14 after them the interpolation fraction
-        // (0 when r is a grid point, as every r below K is). The shifts
-        // stay within [0, 32) by construction (2 ≤ log2 K ≤ 8).
-        let normalized = r << 31u32.wrapping_sub(e);
-        let j = (normalized << 1) >> 32u32.wrapping_sub(Self::LOG_K);
-        let frac14 = (normalized << Self::LOG_K.wrapping_add(1)) >> 18;
-        let index = (e as usize).wrapping_mul(K).wrapping_add(j as usize);
-        let flat = self.rows.as_flattened();
-        let y0 = flat.get(index).map_or(self.end, |&c| cell_value(c));
+        let (index, _, frac14) = match self.cell(r) {
+            Ok(cell) => cell,
+            Err(value) => return value,
+        };
+        let y0 = self.point(index);
         if frac14 == 0 {
             return y0;
         }
-        let y1 = flat
-            .get(index.wrapping_add(1))
-            .map_or(self.end, |&c| cell_value(c));
+        let y1 = self.point(index.wrapping_add(1));
         // |y1 − y0| < 2¹⁷ for the model's curves, so the product fits.
         y0.wrapping_add(y1.wrapping_sub(y0).wrapping_mul(frac14 as i32) >> 14)
     }
@@ -817,8 +827,8 @@ impl<const K: usize> Curves<Q16<K>> for TableCurves<K> {
 
     /// Newton's iteration on h(v) = v·S(v) − c in raw Q16.16 (S per unit
     /// of Fs, so the root lies in [c, c·Fs/Fc]), from c/S_mean, with S and
-    /// v·S′ from the table's cell ([`OctaveTable::lookup_with_slope`]) and
-    /// the step h/h′ from the reciprocal table ([`div_positive_raw`]):
+    /// v·S′ from the table's cell (`OctaveTable::lookup_with_slope`) and
+    /// the step h/h′ from the reciprocal table (`div_positive_raw`):
     /// no division instruction. h′ = S + v·S′ > 0 where v·S is monotone
     /// ((Fs − Fc)·δ ≤ Fc·e^(1 + 1/δ)): the root is the only one and the
     /// iteration converges quadratically (the slope to 2⁻¹⁰ adds a factor
@@ -833,6 +843,8 @@ impl<const K: usize> Curves<Q16<K>> for TableCurves<K> {
             return crate::predictor::fixed_point_root(self, c);
         }
         // c·2/(1 + Fc/Fs), saturated: at most 2³¹ − 1.
+        // The saturating product of this type (the `Scalar` contract).
+        #[allow(clippy::arithmetic_side_effects)]
         let mut v = (c * Q16::from_bits(self.newton_start)).to_bits().max(1);
         for _ in 0..NEWTON_ITERATIONS {
             let (s, slope) = self.stribeck.lookup_with_slope(v as u32);
@@ -871,17 +883,22 @@ mod tests {
     use super::*;
     use std::println;
 
+    /// A xorshift generator from a fixed seed (the tests are deterministic).
+    fn xorshift(mut x: u64) -> impl FnMut() -> u64 {
+        move || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            x
+        }
+    }
+
     /// The ARMv6-M multiply equals the 64-bit one on random and extreme
     /// operands (it only runs on the M0; here it is checked on the host).
     #[test]
     fn split_multiply_matches_wide_multiply() {
-        let mut x: u64 = 0x2545_f491_4f6c_dd1d;
-        let mut next = || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            x as i32
-        };
+        let mut bits = xorshift(0x2545_f491_4f6c_dd1d);
+        let mut next = || bits() as i32;
         let extremes = [
             i32::MIN,
             i32::MIN + 1,
@@ -908,13 +925,8 @@ mod tests {
     /// The ARMv6-M exact product equals the 64-bit one.
     #[test]
     fn exact_split_multiply_matches_wide_multiply() {
-        let mut x: u64 = 0x9e37_79b9_7f4a_7c15;
-        let mut next = || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            x as i32
-        };
+        let mut bits = xorshift(0x9e37_79b9_7f4a_7c15);
+        let mut next = || bits() as i32;
         let extremes = [
             i32::MIN,
             i32::MIN + 1,
@@ -948,13 +960,7 @@ mod tests {
     /// The 32-bit rounding shift equals the 64-bit one, saturated.
     #[test]
     fn shift_round_matches_wide_shift() {
-        let mut x: u64 = 0x2545_f491_4f6c_dd1d;
-        let mut next = || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            x
-        };
+        let mut next = xorshift(0x2545_f491_4f6c_dd1d);
         for _ in 0..1_000_000 {
             let bits = next();
             let value = (bits as i64) >> (1 + next() % 63); // |value| < 2⁶²
@@ -995,13 +1001,7 @@ mod tests {
     /// shifted and saturated, for random scales and count differences.
     #[test]
     fn count_scale_fast_path_matches_wide_path() {
-        let mut x: u64 = 0x9e37_79b9_7f4a_7c15;
-        let mut next = || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            x
-        };
+        let mut next = xorshift(0x9e37_79b9_7f4a_7c15);
         let mut fast = 0;
         for _ in 0..1_000_000 {
             let units = 2f32.powf((next() % 4000) as f32 / 100.0 - 25.0);
@@ -1065,11 +1065,9 @@ mod tests {
             z_max: 1e-5,
             epsilon: 0.0,
         });
-        let mut x: u64 = 0x2545_f491_4f6c_dd1d;
+        let mut next = xorshift(0x2545_f491_4f6c_dd1d);
         for r in (0..1u32 << 17).chain((0..1_000_000).map(|_| {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
+            let x = next();
             (x as u32) >> (x >> 59)
         })) {
             assert_eq!(SHAPE.lookup(r), lookup_by_octave(&SHAPE, r), "g at {r}");
@@ -1085,13 +1083,7 @@ mod tests {
     /// the exact quotient, for random and extreme operands, and saturates.
     #[test]
     fn table_division_within_its_bound() {
-        let mut x: u64 = 0x2545_f491_4f6c_dd1d;
-        let mut next = || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            x
-        };
+        let mut next = xorshift(0x2545_f491_4f6c_dd1d);
         let extremes = [
             1u32,
             2,
@@ -1182,13 +1174,8 @@ mod tests {
     /// widens (2e-3 here).
     #[test]
     fn consistent_newton_finds_the_table_root() {
-        let mut x: u64 = 0x9e37_79b9_7f4a_7c15;
-        let mut uniform = || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            (x >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut bits = xorshift(0x9e37_79b9_7f4a_7c15);
+        let mut uniform = || (bits() >> 11) as f64 / (1u64 << 53) as f64;
         let (mut newton, mut worst, mut worst_fixed) = (0, 0.0f64, 0.0f64);
         for _ in 0..3000 {
             let p = Params {

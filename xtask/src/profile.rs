@@ -348,7 +348,11 @@ pub fn measure(target: Target, only: &[String]) -> Result<Vec<Row>, String> {
     let filter = only.join(",");
     // Unset for every row: the same build as `cargo xtask qemu`'s.
     let value = (!only.is_empty()).then_some(filter.as_str());
-    let elf = qemu::build_with_env("cycle_budget", target, &[(qemu::PROFILE_ROWS_VARIABLE, value)])?;
+    let elf = qemu::build_with_env(
+        "cycle_budget",
+        target,
+        &[(qemu::PROFILE_ROWS_VARIABLE, value)],
+    )?;
     eprintln!(
         "xtask: profiling cycle_budget on {} ({})",
         target.core, target.machine
