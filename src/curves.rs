@@ -250,9 +250,10 @@ impl Curves<f32> for CurvesF32 {
     /// Newton's iteration on h(u) = u·S(u) − y (u = v/V, y = c/V) with the
     /// slope of the table's segment polynomial (Horner's scheme gives both),
     /// from y/S_mean, S_mean = (Fc + Fs)/2. h is non-decreasing for the
-    /// models with (Fs − Fc)·δ ≤ Fc·e^(1 + 1/δ) (for δ ≤ 1 every model with
-    /// Fs ≤ 8.3·Fc, for δ ≤ 2 with Fs ≤ 3.2·Fc): the root is the only one, and Newton's iteration
-    /// converges quadratically to it, eₙ₊₁ ≈ C·eₙ². The iteration stops
+    /// models with (Fs − Fc)·δ ≤ Fc·e^(1 + 1/δ) (for δ ≤ 1 every model
+    /// with Fs ≤ 8.3·Fc, for δ ≤ 2 with Fs ≤ 3.2·Fc): the root is the only
+    /// one, and Newton's iteration converges quadratically to it,
+    /// eₙ₊₁ ≈ C·eₙ². The iteration stops
     /// once the error estimated after a step, stepₙ³/stepₙ₋₁² (relative, C
     /// estimated as stepₙ/stepₙ₋₁²), is below 2⁻²⁴; S(v) is the last S
     /// corrected by its slope times that step. Two evaluations of S for 60
@@ -293,10 +294,11 @@ impl Curves<f32> for CurvesF32 {
 }
 
 /// The Newton solve stops once the estimated error after its step is
-/// below this fraction of u (2⁻²⁴, half an ulp).
+/// below this fraction of u (2⁻²⁴, about half an ulp).
 const NEWTON_TOLERANCE: f32 = 1.0 / 16_777_216.0;
 /// At most this many evaluations of S in the Newton solve before the
-/// fixed-point iteration takes over (at most five in the randomized tests).
+/// fixed-point iteration takes over (two or three for the rates of the
+/// profile).
 const NEWTON_ITERATIONS: usize = 8;
 /// y = c/V at and above which the Newton solve leaves the root to the
 /// fixed-point iteration (which saturates): u·S stays finite below it.

@@ -553,7 +553,7 @@ fn exact_product(a: i32, b: i32) -> i64 {
     }
 }
 
-/// round((hi·2³² + lo) / 2ˢ) for s in 1..=40, saturated to `i32`, with
+/// round((hi·2³² + lo) / 2ˢ) for s in 1..=63, saturated to `i32`, with
 /// 32-bit shifts only (a variable 64-bit shift is a library call on
 /// ARMv6-M): q = x >> (s − 1), then (q + 1) >> 1. |x| < 2⁶², so q + 1
 /// cannot overflow.
@@ -964,7 +964,7 @@ mod tests {
         for _ in 0..1_000_000 {
             let bits = next();
             let value = (bits as i64) >> (1 + next() % 63); // |value| < 2⁶²
-            let s = 1 + (next() % 40) as u32;
+            let s = 1 + (next() % 63) as u32;
             let want = saturate_i32((value + (1i64 << (s - 1))) >> s);
             let got = shift_round((value >> 32) as i32, value as u32, s);
             assert_eq!(got, want, "{value} >> {s}");
