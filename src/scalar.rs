@@ -161,7 +161,8 @@ pub trait Curves<T>: Sized + Clone {
     ///
     /// The default is the fixed-point iteration v ← c/S(v) from c/S(0)
     /// ([`predictor`](crate::predictor)); `f32` and [`Q16`](crate::Q16)
-    /// replace it by a safeguarded Newton iteration on the tables.
+    /// replace it, where v·S(v) is monotone, by Newton's iteration on their
+    /// tables (with this one as the fallback).
     fn consistent_root(&self, c: T) -> Option<(T, T)>
     where
         T: Scalar,
