@@ -447,6 +447,18 @@ fn passes(group: usize) -> &'static [(&'static str, Pass)] {
     }
 }
 
+/// The rows to run, comma-separated, when `cargo xtask profile --rows`
+/// built the example (every row otherwise).
+const ONLY: Option<&str> = option_env!("BREAKAWAY_PROFILE_ROWS");
+
+/// Whether the pass of the row `name` runs.
+fn selected(name: &str) -> bool {
+    match ONLY {
+        Some(only) if !only.is_empty() => only.split(',').any(|n| n == name),
+        _ => true,
+    }
+}
+
 /// Stack painting: the free RAM between the end of the static data and the
 /// painter's own frame is filled with a pattern; after a pass, the lowest
 /// word that no longer holds it is the deepest the pass reached.
@@ -510,7 +522,7 @@ fn stack_pass(counts: &[i32; SAMPLES]) {
     for (group, marker) in DELTAS.iter().enumerate() {
         let bench = bench(marker(), counts);
         let delta = bench.model.params().delta;
-        for &(name, pass) in passes(group) {
+        for &(name, pass) in passes(group).iter().filter(|(n, _)| selected(n)) {
             stack::paint();
             let (sp, _) = pass(&bench);
             match stack::used_below(sp) {
@@ -531,7 +543,7 @@ fn counted_group(group: usize, counts: &[i32; SAMPLES]) {
     // The marker first: the profile attributes what follows to its δ.
     let bench = bench(DELTAS[group](), counts);
     let (mut library, mut anchor) = (0.0, 0.0);
-    for &(name, pass) in passes(group) {
+    for &(name, pass) in passes(group).iter().filter(|(n, _)| selected(n)) {
         let sum = black_box(pass(&bench).1);
         match name {
             "update_f32" => library = sum,

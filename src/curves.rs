@@ -71,6 +71,13 @@ pub struct CurvesF32 {
     rise: f32,
     /// 1/V [s/m].
     inv_v: f32,
+    /// V [m/s].
+    v_stribeck: f32,
+    /// (Fc + Fs)/2 [N]: the consistent root's first guess, y/S_mean.
+    mean: f32,
+    /// u·S(u) is non-decreasing, (Fs − Fc)·δ ≤ Fc·e^(1 + 1/δ): the
+    /// consistent root is then the only root and the Newton solve applies.
+    monotone: bool,
     /// The shape exponent δ (below the table when δ < 0.82).
     delta: f32,
     /// The smaller and the larger of Fc and Fs [N]: S lies between them,
@@ -193,6 +200,9 @@ impl Curves<f32> for CurvesF32 {
             fc: p.fc,
             rise: 0.0,
             inv_v: 1.0,
+            v_stribeck: 1.0,
+            mean: p.fc,
+            monotone: false,
             delta: 1.0,
             low: 0.0,
             high: 0.0,
@@ -207,6 +217,11 @@ impl Curves<f32> for CurvesF32 {
         let (fc, rise, delta) = (p.fc, p.fs - p.fc, p.delta);
         (self.fc, self.rise, self.inv_v, self.delta) = (fc, rise, 1.0 / p.v_stribeck, delta);
         (self.low, self.high) = (p.fc.min(p.fs), p.fc.max(p.fs));
+        (self.v_stribeck, self.mean) = (p.v_stribeck, fc + 0.5 * rise);
+        // d(u·S)/du = Fc + (Fs − Fc)·e^(−x)·(1 − δ·x) with x = u^δ, least
+        // at x = 1 + 1/δ, where it is Fc − (Fs − Fc)·δ·e^(−1 − 1/δ); a
+        // margin of 1 % for the rounding.
+        self.monotone = rise * delta <= 0.99 * fc * libm::expf(1.0 + 1.0 / delta);
         self.stribeck
             .fill(delta, |u| fc + rise * fastmath::exp_neg(power(u, delta)));
     }
@@ -222,15 +237,7 @@ impl Curves<f32> for CurvesF32 {
         {
             let x = offset + u * scale;
             let s = c0 + x * (c1 + x * (c2 + x * (c3 + x * (c4 + x * (c5 + x * (c6 + x * c7))))));
-            // Two plain comparisons (`f32::max`/`min` handle NaN and cost
-            // 33 instructions per update on the M4F; s is never NaN here).
-            return if s > self.high {
-                self.high
-            } else if s < self.low {
-                self.low
-            } else {
-                s
-            };
+            return self.clamp(s);
         }
         self.stribeck_outside(u)
     }
@@ -239,9 +246,117 @@ impl Curves<f32> for CurvesF32 {
     fn shape(&self, w: f32) -> f32 {
         shape_f32(w)
     }
+
+    /// Newton's iteration on h(u) = u·S(u) − y (u = v/V, y = c/V) with the
+    /// slope of the table's segment polynomial (Horner's scheme gives both),
+    /// from y/S_mean, S_mean = (Fc + Fs)/2. h is non-decreasing for the
+    /// models with (Fs − Fc)·δ ≤ Fc·e^(1 + 1/δ) (for δ ≤ 1 every model
+    /// with Fs ≤ 8.3·Fc, for δ ≤ 2 with Fs ≤ 3.2·Fc): the root is the only
+    /// one, and Newton's iteration converges quadratically to it,
+    /// eₙ₊₁ ≈ C·eₙ². The iteration stops
+    /// once the error estimated after a step, stepₙ³/stepₙ₋₁² (relative, C
+    /// estimated as stepₙ/stepₙ₋₁²), is below 2⁻²⁴; S(v) is the last S
+    /// corrected by its slope times that step. Two evaluations of S for 60
+    /// of the 64 rates of the profile (Fig. 5 model), three for the others.
+    /// Where h is not monotone (steep S), or when eight steps do not
+    /// converge (an iterate gone astray, h nearly flat at the root), the
+    /// default fixed-point iteration, which finds the smallest root.
+    fn consistent_root(&self, c: f32) -> Option<(f32, f32)> {
+        let y = c * self.inv_v;
+        // NaN, or y too large for the products below: the default.
+        if !(self.monotone && y < NEWTON_RANGE) {
+            return crate::predictor::fixed_point_root(self, c);
+        }
+        let mut u = y / self.mean;
+        // The relative size of the last step, at most 1/2 (where the error
+        // estimate below is trusted); none before the first step, which
+        // stops the iteration only if it is 0.
+        let mut last = 0.0;
+        for _ in 0..NEWTON_ITERATIONS {
+            let (s, slope) = self.stribeck_and_slope(u);
+            // h′ = S + u·S′ > 0 where h is monotone.
+            let next = u - (u * s - y) / (s + u * slope);
+            let step = next - u;
+            // Positive; above 1 for a negative iterate.
+            let relative = libm::fabsf(step / next);
+            // Quadratic convergence: eₙ₊₁ ≈ C·eₙ² with C ≈ stepₙ/stepₙ₋₁²
+            // (relative), so the error left after this step is about
+            // stepₙ³/stepₙ₋₁². NaN (an iterate gone astray) fails the test.
+            if relative * relative * relative <= NEWTON_TOLERANCE * last * last {
+                let s = s + slope * step;
+                return Some((next * self.v_stribeck, self.clamp(s)));
+            }
+            u = next;
+            last = if relative < 0.5 { relative } else { 0.5 };
+        }
+        crate::predictor::fixed_point_root(self, c)
+    }
 }
 
+/// The Newton solve stops once the estimated error after its step is
+/// below this fraction of u (2⁻²⁴, about half an ulp).
+const NEWTON_TOLERANCE: f32 = 1.0 / 16_777_216.0;
+/// At most this many evaluations of S in the Newton solve before the
+/// fixed-point iteration takes over (two or three for the rates of the
+/// profile).
+const NEWTON_ITERATIONS: usize = 8;
+/// y = c/V at and above which the Newton solve leaves the root to the
+/// fixed-point iteration (which saturates): u·S stays finite below it.
+const NEWTON_RANGE: f32 = f32::MAX / 4.0;
+
 impl CurvesF32 {
+    /// `s` clamped to [min(Fc, Fs), max(Fc, Fs)] by two plain comparisons
+    /// (`f32::max`/`min` handle NaN and cost 33 instructions per update on
+    /// the M4F; `s` is never NaN here).
+    #[inline(always)]
+    fn clamp(&self, s: f32) -> f32 {
+        if s > self.high {
+            self.high
+        } else if s < self.low {
+            self.low
+        } else {
+            s
+        }
+    }
+
+    /// S(u) and dS/du at u = |v|/V ≥ 0 from the table (the polynomial and
+    /// its derivative, not clamped), or outside it.
+    #[inline(always)]
+    fn stribeck_and_slope(&self, u: f32) -> (f32, f32) {
+        let table = &self.stribeck;
+        let index = (u.to_bits() >> table.shift).wrapping_sub(table.base);
+        if let Some(&[scale, offset, c0, c1, c2, c3, c4, c5, c6, c7]) =
+            table.segments.get(index as usize)
+        {
+            let x = offset + u * scale;
+            // Horner's scheme for the polynomial and its derivative.
+            let (mut s, mut ds) = (c7, 0.0);
+            for c in [c6, c5, c4, c3, c2, c1, c0] {
+                ds = s + x * ds;
+                s = c + x * s;
+            }
+            return (s, ds * scale);
+        }
+        self.stribeck_and_slope_outside(u)
+    }
+
+    /// S and dS/du outside the table: Fc above it and Fs below it (slope
+    /// 0), or, below a table that does not reach u^δ = 2⁻²² (δ < 0.82), S
+    /// by the fastmath kernels and dS/du = −(S − Fc)·δ·u^δ/u.
+    #[inline(never)]
+    fn stribeck_and_slope_outside(&self, u: f32) -> (f32, f32) {
+        let table = &self.stribeck;
+        if u.to_bits() >> table.shift >= table.base {
+            (self.fc, 0.0)
+        } else if table.steady_below || u < f32::MIN_POSITIVE {
+            (self.fc + self.rise, 0.0)
+        } else {
+            let x = power(u, self.delta);
+            let above = self.rise * fastmath::exp_neg(x);
+            (self.fc + above, -above * self.delta * x / u)
+        }
+    }
+
     /// S outside the table: Fc above it (u^δ > 20, or u = +∞), Fs below
     /// it, or, below a table that does not reach u^δ = 2⁻²² (δ < 0.82),
     /// by the fastmath kernels.
@@ -350,6 +465,19 @@ mod tests {
     /// the rounding of g itself near 1).
     const MAX_SHAPE_ERROR: f64 = 1e-7;
 
+    /// Fc = 1 N, Fs = 2.5 N, V = 1 mm/s and the shape exponent `delta`.
+    fn params(delta: f32) -> Params {
+        Params {
+            fc: 1.0,
+            fs: 2.5,
+            v_stribeck: 1e-3,
+            delta,
+            sigma: 0.0,
+            z_max: 1e-5,
+            epsilon: 0.0,
+        }
+    }
+
     fn stribeck_f64(p: &Params, v: f64) -> f64 {
         let (fc, fs) = (f64::from(p.fc), f64::from(p.fs));
         fc + (fs - fc) * (-(v.abs() / f64::from(p.v_stribeck)).powf(f64::from(p.delta))).exp()
@@ -360,15 +488,7 @@ mod tests {
         let mut worst = (0.0f64, 0.0f32, 0.0f32);
         let mut delta = 0.1f32;
         while delta < 8.0 {
-            let p = Params {
-                fc: 1.0,
-                fs: 2.5,
-                v_stribeck: 1e-3,
-                delta,
-                sigma: 0.0,
-                z_max: 1e-5,
-                epsilon: 0.0,
-            };
+            let p = params(delta);
             let curves = CurvesF32::build(&p);
             let mut worst_here = 0.0f64;
             // u from 1e-30 to 1e9, 4000 points per decade, and 0.
@@ -395,6 +515,44 @@ mod tests {
             worst.0, worst.1
         );
         assert!(worst.0 < MAX_STRIBECK_ERROR, "{worst:?}");
+    }
+
+    /// dS/du of the table (its segment polynomial's derivative, or the
+    /// kernels' below a table that stops short) against the f64 derivative,
+    /// for δ from 0.1 to 8 and u over 24 decades: u·|ΔS′| within 2e-4 of
+    /// (Fs − Fc)·max(δ, 1), the scale of u·|S′| (measured 9.4e-5; the
+    /// Newton solve of the consistent root needs the slope to far less).
+    #[test]
+    fn stribeck_slope_against_f64() {
+        let mut worst = (0.0f64, 0.0f32, 0.0f32);
+        let mut delta = 0.1f32;
+        while delta < 8.0 {
+            let p = params(delta);
+            let curves = CurvesF32::build(&p);
+            let mut log_u = -20.0f64;
+            while log_u < 4.0 {
+                let u = 10f64.powf(log_u);
+                let (s, slope) = curves.stribeck_and_slope(u as f32);
+                let d = f64::from(delta);
+                let x = u.powf(d);
+                let want = -1.5 * d * x / u * (-x).exp();
+                let err = (f64::from(slope) - want).abs() * u / (1.5 * d.max(1.0));
+                assert!(
+                    (f64::from(s) - stribeck_f64(&p, u * 1e-3)).abs() < 1e-5,
+                    "S at u = {u}, δ = {delta}"
+                );
+                if err > worst.0 {
+                    worst = (err, delta, u as f32);
+                }
+                log_u += 1.0 / 500.0;
+            }
+            delta *= 1.13;
+        }
+        println!(
+            "stribeck slope: worst error {:.3e} (u·|ΔS′|/((Fs − Fc)·max(δ, 1))) at δ = {}, u = {}",
+            worst.0, worst.1, worst.2
+        );
+        assert!(worst.0 < 2e-4, "{worst:?}");
     }
 
     #[test]

@@ -46,7 +46,7 @@
 //! relative while v_b ≥ 1e-3·V (below, the velocity resolution 1.5e-5·V moves
 //! S(v_b) by up to (1.5e-5)^δ·(Fs − Fc) relative to Fs, 4e-3·(Fs − Fc) for
 //! δ = 0.5).
-//! The worst cases measured there: 5.1e-4·Fs for the friction, 2.3e-4 for
+//! The worst cases measured there: 5.1e-4·Fs for the friction, 2.1e-4 for
 //! F_ba.
 //!
 //! ```
@@ -85,7 +85,7 @@
 //! [`Model::new`](crate::Model::new) returns the model by value, which may copy
 //! the table through the stack. [`Model::set_params`](crate::Model::set_params)
 //! builds it where the model lives, starting from the `const`
-//! [`Model::UNIT_COULOMB`](crate::Model::UNIT_COULOMB): 460 bytes of stack on
+//! [`Model::UNIT_COULOMB`](crate::Model::UNIT_COULOMB): 452 bytes of stack on
 //! the Cortex-M0
 //! ([`cargo xtask profile`](https://github.com/breakaway-rs/breakaway/blob/main/docs/cycle-budget.md),
 //! row `new_model_fixed`).
@@ -164,10 +164,10 @@ impl<const K: usize> Mul for Q16<K> {
     #[inline(always)]
     fn mul(self, rhs: Self) -> Self {
         #[cfg(not(breakaway_armv6m))]
-        let rounded = mul_wide(self.to_bits(), rhs.to_bits());
+        let product = saturate_i32(mul_wide(self.to_bits(), rhs.to_bits()));
         #[cfg(breakaway_armv6m)]
-        let rounded = mul_split(self.to_bits(), rhs.to_bits());
-        Self::from_bits(saturate_i32(rounded))
+        let product = mul_split_saturated(self.to_bits(), rhs.to_bits());
+        Self::from_bits(product)
     }
 }
 
@@ -196,6 +196,40 @@ fn mul_split(a: i32, b: i32) -> i64 {
     let middle = i64::from(ah.wrapping_mul(bl)).wrapping_add(i64::from(al.wrapping_mul(bh)));
     let low = i64::from((al as u32).wrapping_mul(bl as u32).wrapping_add(1 << 15) >> 16);
     high.wrapping_add(middle).wrapping_add(low)
+}
+
+/// [`mul_split`] saturated to `i32`, in 32-bit arithmetic (the 64-bit sums
+/// and the 64-bit saturation test cost some 25 instructions more on
+/// ARMv6-M): with the middle sum m = a_h·b_l + a_l·b_h (its overflow
+/// tracked) and r = (m mod 2¹⁶) + ⌊(a_l·b_l + 2¹⁵)/2¹⁶⌋ < 2¹⁷, the result
+/// is H·2¹⁶ + (r mod 2¹⁶) with H = a_h·b_h + ⌊m/2¹⁶⌋ + ⌊r/2¹⁶⌋, which fits
+/// `i32` exactly when −2¹⁵ ≤ H < 2¹⁵ and has the sign of H.
+#[inline(always)]
+#[cfg_attr(not(breakaway_armv6m), allow(dead_code))]
+fn mul_split_saturated(a: i32, b: i32) -> i32 {
+    let (ah, al) = (a >> 16, a & 0xffff);
+    let (bh, bl) = (b >> 16, b & 0xffff);
+    let (m, overflow) = ah.wrapping_mul(bl).overflowing_add(al.wrapping_mul(bh));
+    // When the sum overflowed, its true value is m ± 2³², of the sign
+    // opposite to m's.
+    let m_high = match (overflow, m < 0) {
+        (false, _) => m >> 16,
+        (true, true) => (m >> 16).wrapping_add(1 << 16),
+        (true, false) => (m >> 16).wrapping_sub(1 << 16),
+    };
+    let low = ((al as u32).wrapping_mul(bl as u32).wrapping_add(1 << 15) >> 16) as i32;
+    let r = (m & 0xffff).wrapping_add(low);
+    let high = ah
+        .wrapping_mul(bh)
+        .wrapping_add(m_high)
+        .wrapping_add(r >> 16);
+    if high >= 1 << 15 {
+        i32::MAX
+    } else if high < -(1 << 15) {
+        i32::MIN
+    } else {
+        (high << 16) | (r & 0xffff)
+    }
 }
 
 /// a·b exactly from four 32-bit products, for ARMv6-M (see [`mul_split`]):
@@ -266,6 +300,51 @@ fn floor_log2_table(r: u32) -> u32 {
     e | u32::from(LOG2_BYTE.get(x as usize).copied().unwrap_or(0))
 }
 
+/// ⌊2³⁰/m⌉ at m = 1 + i/256 for i in 0..=256 (in (2²⁹, 2³⁰]), generated at
+/// compile time: the reciprocal table of [`div_positive_raw`] (1 028 bytes
+/// of flash, linked only where the predictor is).
+#[allow(clippy::indexing_slicing, clippy::arithmetic_side_effects)]
+const RECIPROCAL: [u32; 257] = {
+    let mut table = [0u32; 257];
+    let mut i = 0;
+    while i < 257 {
+        let d = 256 + i as u64;
+        table[i] = (((1u64 << 38) + d / 2) / d) as u32;
+        i += 1;
+    }
+    table
+};
+
+/// a·2¹⁶/b rounded, for a ≥ 0 and b > 0 (raw Q16.16: the raw quotient),
+/// within a relative 5e-6 plus one raw unit, saturated at `i32::MAX`; 0
+/// for b = 0 (callers pass b > 0). No division: b = m·2ᵉ with m in [1, 2)
+/// from ⌊log2 b⌋, 2³⁰/m interpolated linearly in [`RECIPROCAL`] (error
+/// below 3.8e-6), then a·(2³⁰/m)/2^(14 + e): one exact product and one
+/// rounding shift.
+#[inline(always)]
+fn div_positive_raw(a: u32, b: u32) -> i32 {
+    if b == 0 {
+        return 0;
+    }
+    let e = floor_log2(b);
+    // b with its leading one at bit 31: the next 8 bits pick the segment,
+    // the 16 after them are the interpolation fraction.
+    let normalized = b << 31u32.wrapping_sub(e);
+    let i = ((normalized >> 23) & 0xff) as usize;
+    let frac = (normalized >> 7) & 0xffff;
+    let r0 = RECIPROCAL.get(i).copied().unwrap_or(1 << 29);
+    let r1 = RECIPROCAL
+        .get(i.wrapping_add(1))
+        .copied()
+        .unwrap_or(1 << 29);
+    // r0 − r1 < 2²², so (r0 − r1)/2⁶ times a 16-bit fraction fits 32 bits.
+    let inverse = r0.wrapping_sub(((r0.wrapping_sub(r1) >> 6).wrapping_mul(frac)) >> 10);
+    // a < 2³¹ (clamped by one unit at most), inverse ≤ 2³⁰: exact in 62 bits.
+    let a = a.min(i32::MAX as u32) as i32;
+    let product = exact_product(a, inverse as i32);
+    shift_round((product >> 32) as i32, product as u32, e.wrapping_add(14))
+}
+
 impl<const K: usize> Div for Q16<K> {
     type Output = Self;
     /// Saturating division; x/0 saturates by the sign of x (0/0 = 0).
@@ -313,6 +392,20 @@ impl<const K: usize> Scalar for Q16<K> {
     #[inline(always)]
     fn saturate(self) -> Self {
         self
+    }
+    /// The quotient from a reciprocal table (`div_positive_raw`): within
+    /// a relative 5e-6 plus one raw unit of the exact quotient, for `rhs` >
+    /// 0 (else the exact division).
+    #[inline(always)]
+    fn div_approx(self, rhs: Self) -> Self {
+        let (a, b) = (self.to_bits(), rhs.to_bits());
+        if b <= 0 {
+            // The saturating division of this type (the `Scalar` contract).
+            #[allow(clippy::arithmetic_side_effects)]
+            return self / rhs;
+        }
+        let q = div_positive_raw(a.unsigned_abs(), b as u32);
+        Self::from_bits(if a < 0 { q.wrapping_neg() } else { q })
     }
     /// The rounded product without the saturation check: exact as long as
     /// it fits, which the callers guarantee (|product| ≤ 256 < 32768).
@@ -494,7 +587,7 @@ fn exact_product(a: i32, b: i32) -> i64 {
     }
 }
 
-/// round((hi·2³² + lo) / 2ˢ) for s in 1..=40, saturated to `i32`, with
+/// round((hi·2³² + lo) / 2ˢ) for s in 1..=63, saturated to `i32`, with
 /// 32-bit shifts only (a variable 64-bit shift is a library call on
 /// ARMv6-M): q = x >> (s − 1), then (q + 1) >> 1. |x| < 2⁶², so q + 1
 /// cannot overflow.
@@ -624,16 +717,19 @@ impl<const K: usize, const E: usize> OctaveTable<K, E> {
         self.end = bits(libm::ldexpf(1.0, E as i32) / 65536.0);
     }
 
-    /// f at the raw argument `r` (clamped to the grid), interpolated.
+    /// Where the raw argument `r` falls on the grid: the flat index of its
+    /// cell's first point, r normalized to bit 31 and the 14-bit
+    /// interpolation fraction; `Err` with f there when r is 0 or beyond
+    /// the grid.
     #[inline(always)]
-    fn lookup(&self, r: u32) -> i32 {
+    fn cell(&self, r: u32) -> Result<(usize, u32, u32), i32> {
         if r == 0 {
-            return self.zero;
+            return Err(self.zero);
         }
         // r ≠ 0: 2ᵉ ≤ r < 2ᵉ⁺¹.
         let e = floor_log2(r);
         if e as usize >= E {
-            return self.end;
+            return Err(self.end);
         }
         // r with its leading one at bit 31 (e ≤ 31): the next log2 K bits
         // are the column j, the 14 after them the interpolation fraction
@@ -643,14 +739,50 @@ impl<const K: usize, const E: usize> OctaveTable<K, E> {
         let j = (normalized << 1) >> 32u32.wrapping_sub(Self::LOG_K);
         let frac14 = (normalized << Self::LOG_K.wrapping_add(1)) >> 18;
         let index = (e as usize).wrapping_mul(K).wrapping_add(j as usize);
-        let flat = self.rows.as_flattened();
-        let y0 = flat.get(index).map_or(self.end, |&c| cell_value(c));
+        Ok((index, normalized, frac14))
+    }
+
+    /// f at the grid point `index` (flat), or at the end of the grid.
+    #[inline(always)]
+    fn point(&self, index: usize) -> i32 {
+        self.rows
+            .as_flattened()
+            .get(index)
+            .map_or(self.end, |&c| cell_value(c))
+    }
+
+    /// f at the raw argument `r` (clamped to the grid), interpolated, and
+    /// r·f′(r) on its cell, to 2⁻¹⁰ relative (0 off the grid): with
+    /// r = 2ᵉ·m, m in [1, 2), the cell spans 2ᵉ/K, so r·f′ = (y₁ − y₀)·K·m.
+    #[inline(always)]
+    fn lookup_with_slope(&self, r: u32) -> (i32, i32) {
+        let (index, normalized, frac14) = match self.cell(r) {
+            Ok(cell) => cell,
+            Err(value) => return (value, 0),
+        };
+        let y0 = self.point(index);
+        let rise = self.point(index.wrapping_add(1)).wrapping_sub(y0);
+        // |y1 − y0| < 2¹⁷ and m·2¹⁰ < 2¹¹: the products fit.
+        let value = y0.wrapping_add(rise.wrapping_mul(frac14 as i32) >> 14);
+        let m = (normalized >> 21) as i32;
+        (
+            value,
+            rise.wrapping_mul(m) >> 10u32.wrapping_sub(Self::LOG_K),
+        )
+    }
+
+    /// f at the raw argument `r` (clamped to the grid), interpolated.
+    #[inline(always)]
+    fn lookup(&self, r: u32) -> i32 {
+        let (index, _, frac14) = match self.cell(r) {
+            Ok(cell) => cell,
+            Err(value) => return value,
+        };
+        let y0 = self.point(index);
         if frac14 == 0 {
             return y0;
         }
-        let y1 = flat
-            .get(index.wrapping_add(1))
-            .map_or(self.end, |&c| cell_value(c));
+        let y1 = self.point(index.wrapping_add(1));
         // |y1 − y0| < 2¹⁷ for the model's curves, so the product fits.
         y0.wrapping_add(y1.wrapping_sub(y0).wrapping_mul(frac14 as i32) >> 14)
     }
@@ -662,6 +794,11 @@ impl<const K: usize, const E: usize> OctaveTable<K, E> {
 #[derive(Clone, Debug, PartialEq)]
 pub struct TableCurves<const K: usize> {
     stribeck: OctaveTable<K, STRIBECK_OCTAVES>,
+    /// The first guess of the consistent root's Newton iteration, 1/S_mean
+    /// = 2/(1 + Fc/Fs) in raw Q16.16, where v·S(v) is monotone
+    /// ((Fs − Fc)·δ ≤ Fc·e^(1 + 1/δ)); 0 where it is not (the fixed-point
+    /// iteration then finds the smallest root).
+    newton_start: i32,
 }
 
 impl<const K: usize> TableCurves<K> {
@@ -672,6 +809,7 @@ impl<const K: usize> TableCurves<K> {
             rows: [[0; K]; STRIBECK_OCTAVES],
             end: 1 << 16,
         },
+        newton_start: 1 << 16,
     };
 }
 
@@ -695,6 +833,15 @@ impl<const K: usize> Curves<Q16<K>> for TableCurves<K> {
         let delta = p.delta;
         self.stribeck
             .fill(|u| fc + (1.0 - fc) * libm::expf(-libm::powf(u, delta)));
+        // d(v·S)/dv = Fc + (Fs − Fc)·e^(−x)·(1 − δ·x), x = (v/V)^δ, least
+        // at x = 1 + 1/δ, where it is Fc − (Fs − Fc)·δ·e^(−1 − 1/δ); a
+        // margin of 1 % for the rounding.
+        let monotone = (1.0 - fc) * delta <= 0.99 * fc * libm::expf(1.0 + 1.0 / delta);
+        self.newton_start = if monotone {
+            libm::roundf(2.0 / (1.0 + fc) * 65536.0) as i32
+        } else {
+            0
+        };
     }
 
     #[inline(always)]
@@ -711,23 +858,81 @@ impl<const K: usize> Curves<Q16<K>> for TableCurves<K> {
         }
         Q16::from_bits(SHAPE.lookup(bits as u32))
     }
+
+    /// Newton's iteration on h(v) = v·S(v) − c in raw Q16.16 (S per unit
+    /// of Fs, so the root lies in [c, c·Fs/Fc]), from c/S_mean, with S and
+    /// v·S′ from the table's cell (`OctaveTable::lookup_with_slope`) and
+    /// the step h/h′ from the reciprocal table (`div_positive_raw`):
+    /// no division instruction. h′ = S + v·S′ > 0 where v·S is monotone
+    /// ((Fs − Fc)·δ ≤ Fc·e^(1 + 1/δ)): the root is the only one and the
+    /// iteration converges quadratically (the slope to 2⁻¹⁰ adds a factor
+    /// 2⁻¹⁰ per step). It stops once a step is below 2⁻⁸ of v: the error
+    /// left is then about C·2⁻¹⁶ (C = v·|h″|/(2·h′) < 1) plus 2⁻¹⁸,
+    /// below the fixed-point iteration's tolerance 2⁻¹³; S(v) is then
+    /// looked up. Where v·S is not monotone, when c ≤ 0, or when eight
+    /// steps do not converge, the default fixed-point iteration.
+    fn consistent_root(&self, c: Q16<K>) -> Option<(Q16<K>, Q16<K>)> {
+        let target = c.to_bits();
+        if self.newton_start == 0 || target <= 0 {
+            return crate::predictor::fixed_point_root(self, c);
+        }
+        // c·2/(1 + Fc/Fs), saturated: at most 2³¹ − 1.
+        // The saturating product of this type (the `Scalar` contract).
+        #[allow(clippy::arithmetic_side_effects)]
+        let mut v = (c * Q16::from_bits(self.newton_start)).to_bits().max(1);
+        for _ in 0..NEWTON_ITERATIONS {
+            let (s, slope) = self.stribeck.lookup_with_slope(v as u32);
+            // v·S ≤ v (S ≤ 1): the product is in range; |h| < 2³¹.
+            let h = Q16::<K>::from_bits(v)
+                .mul_in_range(Q16::from_bits(s))
+                .to_bits()
+                .wrapping_sub(target);
+            let derivative = s.wrapping_add(slope);
+            if derivative <= 0 {
+                break;
+            }
+            let step = div_positive_raw(h.unsigned_abs(), derivative as u32);
+            let next = if h < 0 {
+                v.saturating_add(step)
+            } else {
+                v.saturating_sub(step).max(1)
+            };
+            if step <= next >> 8 {
+                let v_b = Q16::from_bits(next);
+                return Some((v_b, Q16::from_bits(self.stribeck.lookup(next as u32))));
+            }
+            v = next;
+        }
+        crate::predictor::fixed_point_root(self, c)
+    }
 }
+
+/// At most this many Newton steps for the consistent root before the
+/// fixed-point iteration takes over.
+const NEWTON_ITERATIONS: usize = 8;
 
 #[cfg(test)]
 mod tests {
+    extern crate std;
     use super::*;
+    use std::println;
+
+    /// A xorshift generator from a fixed seed (the tests are deterministic).
+    fn xorshift(mut x: u64) -> impl FnMut() -> u64 {
+        move || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            x
+        }
+    }
 
     /// The ARMv6-M multiply equals the 64-bit one on random and extreme
     /// operands (it only runs on the M0; here it is checked on the host).
     #[test]
     fn split_multiply_matches_wide_multiply() {
-        let mut x: u64 = 0x2545_f491_4f6c_dd1d;
-        let mut next = || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            x as i32
-        };
+        let mut bits = xorshift(0x2545_f491_4f6c_dd1d);
+        let mut next = || bits() as i32;
         let extremes = [
             i32::MIN,
             i32::MIN + 1,
@@ -751,16 +956,49 @@ mod tests {
         }
     }
 
+    /// The ARMv6-M saturating product in 32-bit arithmetic equals the
+    /// 64-bit one, saturated, on random and extreme operands.
+    #[test]
+    fn split_saturated_multiply_matches_wide_multiply() {
+        let mut bits = xorshift(0x5851_f42d_4c95_7f2d);
+        let mut next = || bits() as i32;
+        let extremes = [
+            i32::MIN,
+            i32::MIN + 1,
+            -(1 << 24),
+            -65537,
+            -65536,
+            -65535,
+            -32768,
+            -1,
+            0,
+            1,
+            32767,
+            32768,
+            65535,
+            65536,
+            65537,
+            1 << 24,
+            i32::MAX - 1,
+            i32::MAX,
+        ];
+        let want = |a: i32, b: i32| saturate_i32(mul_wide(a, b));
+        for &a in &extremes {
+            for &b in &extremes {
+                assert_eq!(mul_split_saturated(a, b), want(a, b), "{a} × {b}");
+            }
+        }
+        for _ in 0..4_000_000 {
+            let (a, b) = (next() >> (next() & 31), next() >> (next() & 31));
+            assert_eq!(mul_split_saturated(a, b), want(a, b), "{a} × {b}");
+        }
+    }
+
     /// The ARMv6-M exact product equals the 64-bit one.
     #[test]
     fn exact_split_multiply_matches_wide_multiply() {
-        let mut x: u64 = 0x9e37_79b9_7f4a_7c15;
-        let mut next = || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            x as i32
-        };
+        let mut bits = xorshift(0x9e37_79b9_7f4a_7c15);
+        let mut next = || bits() as i32;
         let extremes = [
             i32::MIN,
             i32::MIN + 1,
@@ -794,17 +1032,11 @@ mod tests {
     /// The 32-bit rounding shift equals the 64-bit one, saturated.
     #[test]
     fn shift_round_matches_wide_shift() {
-        let mut x: u64 = 0x2545_f491_4f6c_dd1d;
-        let mut next = || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            x
-        };
+        let mut next = xorshift(0x2545_f491_4f6c_dd1d);
         for _ in 0..1_000_000 {
             let bits = next();
             let value = (bits as i64) >> (1 + next() % 63); // |value| < 2⁶²
-            let s = 1 + (next() % 40) as u32;
+            let s = 1 + (next() % 63) as u32;
             let want = saturate_i32((value + (1i64 << (s - 1))) >> s);
             let got = shift_round((value >> 32) as i32, value as u32, s);
             assert_eq!(got, want, "{value} >> {s}");
@@ -841,13 +1073,7 @@ mod tests {
     /// shifted and saturated, for random scales and count differences.
     #[test]
     fn count_scale_fast_path_matches_wide_path() {
-        let mut x: u64 = 0x9e37_79b9_7f4a_7c15;
-        let mut next = || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            x
-        };
+        let mut next = xorshift(0x9e37_79b9_7f4a_7c15);
         let mut fast = 0;
         for _ in 0..1_000_000 {
             let units = 2f32.powf((next() % 4000) as f32 / 100.0 - 25.0);
@@ -911,11 +1137,9 @@ mod tests {
             z_max: 1e-5,
             epsilon: 0.0,
         });
-        let mut x: u64 = 0x2545_f491_4f6c_dd1d;
+        let mut next = xorshift(0x2545_f491_4f6c_dd1d);
         for r in (0..1u32 << 17).chain((0..1_000_000).map(|_| {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
+            let x = next();
             (x as u32) >> (x >> 59)
         })) {
             assert_eq!(SHAPE.lookup(r), lookup_by_octave(&SHAPE, r), "g at {r}");
@@ -925,6 +1149,161 @@ mod tests {
                 "S at {r}"
             );
         }
+    }
+
+    /// The table division is within a relative 5e-6 plus one raw unit of
+    /// the exact quotient, for random and extreme operands, and saturates.
+    #[test]
+    fn table_division_within_its_bound() {
+        let mut next = xorshift(0x2545_f491_4f6c_dd1d);
+        let extremes = [
+            1u32,
+            2,
+            3,
+            255,
+            256,
+            257,
+            65535,
+            65536,
+            65537,
+            1 << 30,
+            u32::MAX >> 1,
+        ];
+        let mut worst = 0.0f64;
+        let mut check = |a: u32, b: u32| {
+            let exact = f64::from(a) * 65536.0 / f64::from(b);
+            let got = div_positive_raw(a, b);
+            if exact >= f64::from(i32::MAX) {
+                assert!(
+                    f64::from(got) >= f64::from(i32::MAX) * (1.0 - 5e-6),
+                    "{a}/{b}"
+                );
+            } else {
+                let err = (f64::from(got) - exact).abs();
+                assert!(err <= 5e-6 * exact + 1.0, "{a}/{b}: {got} for {exact}");
+                if exact > 1e6 {
+                    worst = worst.max(err / exact);
+                }
+            }
+        };
+        for &a in &extremes {
+            for &b in &extremes {
+                check(a, b);
+            }
+        }
+        for _ in 0..1_000_000 {
+            let a = (next() as u32) >> (next() % 32);
+            let b = ((next() as u32) >> (next() % 32)).max(1);
+            check(a.min(i32::MAX as u32), b.min(i32::MAX as u32));
+        }
+        assert_eq!(div_positive_raw(5, 0), 0);
+        println!("table division: worst relative error {worst:.2e}");
+        assert!(worst < 5e-6, "{worst}");
+    }
+
+    /// r·f′(r) from the cell equals the interpolated f's difference
+    /// quotient across the cell to 2⁻¹⁰ relative (plus rounding).
+    #[test]
+    fn lookup_slope_matches_difference_quotient() {
+        let curves = TableCurves::<16>::build(&Params {
+            fc: 1.0,
+            fs: 2.5,
+            v_stribeck: 1e-3,
+            delta: 0.8,
+            sigma: 0.0,
+            z_max: 1e-5,
+            epsilon: 0.0,
+        });
+        let table = &curves.stribeck;
+        for e in 5..30u32 {
+            for j in 0..16u32 {
+                // Two points inside one cell of octave e.
+                let width = (1u32 << e) / 16;
+                let r0 = (1u32 << e) + j * width + width / 4;
+                let r1 = r0 + width / 2;
+                let (y0, slope) = table.lookup_with_slope(r0);
+                assert_eq!(y0, table.lookup(r0));
+                let quotient =
+                    f64::from(table.lookup(r1) - y0) / f64::from(r1 - r0) * f64::from(r0);
+                let tolerance =
+                    quotient.abs() / 1024.0 + 2.0 * f64::from(r0) / f64::from(width) + 1.0;
+                assert!(
+                    (f64::from(slope) - quotient).abs() <= tolerance,
+                    "e = {e}, j = {j}: {slope} for {quotient}"
+                );
+            }
+        }
+        assert_eq!(table.lookup_with_slope(0), (table.zero, 0));
+        assert_eq!(table.lookup_with_slope(u32::MAX).1, 0);
+    }
+
+    /// The Newton solve of the consistent root finds the root of
+    /// v·S(v) = c on the table (found here by bisection over the raw
+    /// values, in 64-bit integers) to 2⁻¹³ relative plus two raw units, on
+    /// random models (Fs/Fc from 1 to 4, δ from 0.3 to 4) and rates; the
+    /// fixed-point iteration (the default, and the fallback where v·S is
+    /// not monotone) to its own tolerance, which a slow contraction
+    /// widens (2e-3 here).
+    #[test]
+    fn consistent_newton_finds_the_table_root() {
+        let mut bits = xorshift(0x9e37_79b9_7f4a_7c15);
+        let mut uniform = || (bits() >> 11) as f64 / (1u64 << 53) as f64;
+        let (mut newton, mut worst, mut worst_fixed) = (0, 0.0f64, 0.0f64);
+        for _ in 0..3000 {
+            let p = Params {
+                fc: 1.0,
+                fs: (1.0 + 3.0 * uniform()) as f32,
+                v_stribeck: 1e-3,
+                delta: (0.3 + 3.7 * uniform()) as f32,
+                sigma: 0.0,
+                z_max: 1e-5,
+                epsilon: 0.0,
+            };
+            let curves = TableCurves::<16>::build(&p);
+            let c = (2f64.powf(4.0 + 26.0 * uniform())) as i32;
+            // The smallest raw v with v·S(v) ≥ c·2¹⁶ (where v·S is
+            // monotone), bisected; none when it saturates.
+            let h = |v: i64| v * i64::from(curves.stribeck.lookup(v as u32)) - (i64::from(c) << 16);
+            let (mut low, mut high) = (i64::from(c) - 1, i64::from(i32::MAX));
+            if curves.newton_start == 0 || h(high) < 0 {
+                continue;
+            }
+            while high - low > 1 {
+                let mid = (low + high) / 2;
+                if h(mid) >= 0 {
+                    high = mid;
+                } else {
+                    low = mid;
+                }
+            }
+            newton += 1;
+            let root = high as f64;
+            let got = curves.consistent_root(Q16::from_bits(c)).unwrap();
+            let err = (f64::from(got.0.to_bits()) - root).abs();
+            assert!(
+                err <= root / 8192.0 + 2.0,
+                "{p:?}, c = {c}: {got:?}, root {root}"
+            );
+            assert_eq!(
+                got.1,
+                Q16::from_bits(curves.stribeck.lookup(got.0.to_bits() as u32))
+            );
+            let fixed =
+                crate::predictor::fixed_point_root(&curves, Q16::<16>::from_bits(c)).unwrap();
+            let err_fixed = (f64::from(fixed.0.to_bits()) - root).abs();
+            assert!(
+                err_fixed <= root * 2e-3 + 2.0,
+                "{p:?}, c = {c}: {fixed:?}, root {root}"
+            );
+            if root > 1e4 {
+                worst = worst.max(err / root);
+                worst_fixed = worst_fixed.max(err_fixed / root);
+            }
+        }
+        println!(
+            "consistent root on the table: Newton within {worst:.2e}, fixed-point iteration {worst_fixed:.2e}"
+        );
+        assert!(newton > 2000, "{newton}");
     }
 
     #[test]

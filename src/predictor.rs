@@ -17,10 +17,22 @@
 //! ```
 //!
 //! with F̂ one of four [`Variant`]s. `Consistent` takes F̂ = S(v_b), the
-//! smallest positive root of v·S(v) = −k·z_max/ln w_b. The map
-//! v ↦ c/S(v) is non-decreasing (S falls with |v|), so the fixed-point
-//! iteration from c/Fs climbs monotonically to the smallest root; it stops
-//! when the Aitken estimate of the remaining error falls below a few ulp.
+//! smallest positive root of v·S(v) = c = −k·z_max/ln w_b, solved by the
+//! number type's curves ([`Curves::consistent_root`]):
+//!
+//! - where v·S(v) is monotone — d(v·S)/dv = Fc + (Fs − Fc)·e^(−x)·(1 − δ·x),
+//!   x = (v/V)^δ, is least at x = 1 + 1/δ, so (Fs − Fc)·δ ≤ Fc·e^(1 + 1/δ),
+//!   every model with Fs ≤ 8.3·Fc at δ = 1 and with Fs ≤ 3.2·Fc at δ = 2
+//!   — the root is the only one, and Newton's iteration finds it from
+//!   c/S_mean with the slope of the model's Stribeck table: two or three
+//!   evaluations of S (`f32`: the segment polynomial and its derivative;
+//!   [`Q16`](crate::Q16): the table's cell, the steps from a reciprocal
+//!   table, no division instruction);
+//! - elsewhere, and as the fallback of the Newton solve, the fixed-point
+//!   iteration: the map v ↦ c/S(v) is non-decreasing (S falls with |v|),
+//!   so the iteration from c/Fs climbs monotonically to the smallest root;
+//!   it stops when the Aitken estimate of the remaining error falls below a
+//!   few ulp.
 //!
 //! The quasi-static result holds while inertia is negligible in presliding,
 //! roughly m·k²·z_max / (F̂³·w_b·|ln w_b|³) ≪ 1
@@ -129,8 +141,8 @@ impl core::error::Error for PredictError {}
 /// Predicts break-away for one model and one boundary w_b.
 ///
 /// The constants that involve logarithms are computed once here, so a
-/// prediction costs one S(v) evaluation per closed-form variant (a few for
-/// `Consistent`).
+/// prediction costs one S(v) evaluation per closed-form variant (two or
+/// three, with their slopes, for `Consistent`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct BreakAwayPredictor<T> {
@@ -187,21 +199,32 @@ impl<T: Scalar> BreakAwayPredictor<T> {
         variant: Variant,
         k: T,
     ) -> Result<BreakAway<T>, PredictError> {
-        if !(k.is_finite() && k > T::ZERO) {
+        // Finite and positive (NaN fails both comparisons).
+        if !(k > T::ZERO && k <= T::MAX) {
             return Err(PredictError::InvalidRate);
         }
         let c = match self.rate {
             RateScale::Times(tau) => k * tau,
-            RateScale::Over(inv_tau) => k / inv_tau,
+            RateScale::Over(inv_tau) => k.div_approx(inv_tau),
         }
         .saturate();
-        let v_b = velocity_for(model, variant, c)?;
-        let s = model.curves.stribeck(v_b);
+        let (v_b, s) = match variant {
+            Variant::Consistent => model
+                .curves
+                .consistent_root(c)
+                .ok_or(PredictError::NoConvergence)?,
+            _ => {
+                let v_b = velocity_for(model, variant, c)?;
+                (v_b, model.curves.stribeck(v_b))
+            }
+        };
         let viscous = (model.sigma * v_b).saturate();
         Ok(BreakAway {
             v_b,
             f_ba: (s + viscous).saturate(),
-            t_ba: ((s * self.shape_at_boundary + viscous) / k).saturate(),
+            t_ba: (s * self.shape_at_boundary + viscous)
+                .div_approx(k)
+                .saturate(),
         })
     }
 }
@@ -213,37 +236,47 @@ fn velocity_for<T: Scalar>(model: &Model<T>, variant: Variant, c: T) -> Result<T
         Variant::Coulomb => model.fc,
         Variant::Stiction => model.fs,
         Variant::Mean => model.fc + (model.fs - model.fc) / two,
-        Variant::Consistent => return consistent_velocity(model, c),
+        Variant::Consistent => {
+            return match model.curves.consistent_root(c) {
+                Some((v, _)) => Ok(v),
+                None => Err(PredictError::NoConvergence),
+            }
+        }
     };
     Ok((c / level).saturate())
 }
 
-/// The smallest positive root of v·S(v) = c.
+/// The smallest positive root of v·S(v) = c, and S there, by the
+/// fixed-point iteration (the default of
+/// [`Curves::consistent_root`](crate::Curves::consistent_root), and the
+/// fallback of the Newton solves where v·S(v) is not monotone).
 ///
-/// φ(v) = c/S(v) is non-decreasing, and v₀ = c/Fs lies below every root, so
-/// vₙ₊₁ = φ(vₙ) increases monotonically to the smallest root. The iteration
-/// converges linearly with rate q = φ′; it stops once the Aitken estimate of
-/// the remaining error, Δₙ·q/(1 − q), is below the number type's tolerance.
-fn consistent_velocity<T: Scalar>(model: &Model<T>, c: T) -> Result<T, PredictError> {
-    let mut v = (c / model.fs).saturate();
+/// φ(v) = c/S(v) is non-decreasing, and v₀ = c/S(0) = c/Fs lies below every
+/// root, so vₙ₊₁ = φ(vₙ) increases monotonically to the smallest root. The
+/// iteration converges linearly with rate q = φ′; it stops once the Aitken
+/// estimate of the remaining error, Δₙ·q/(1 − q), is below the number
+/// type's tolerance.
+#[inline(never)]
+pub(crate) fn fixed_point_root<T: Scalar, C: Curves<T>>(curves: &C, c: T) -> Option<(T, T)> {
+    let mut v = (c / curves.stribeck(T::ZERO)).saturate();
     let mut step = T::ZERO;
     for _ in 0..MAX_ITERATIONS {
-        let next = (c / model.curves.stribeck(v)).saturate();
+        let next = (c / curves.stribeck(v)).saturate();
         let delta = (next - v).abs();
         let tolerance = T::TOLERANCE * next;
         if delta <= tolerance {
-            return Ok(next);
+            return Some((next, curves.stribeck(next)));
         }
         if step > T::ZERO && delta < step {
             let q = delta / step;
             if delta * q <= tolerance * (T::ONE - q) {
-                return Ok(next);
+                return Some((next, curves.stribeck(next)));
             }
         }
         step = delta;
         v = next;
     }
-    Err(PredictError::NoConvergence)
+    None
 }
 
 impl BreakAwayPredictor<f32> {

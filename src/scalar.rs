@@ -91,6 +91,16 @@ pub trait Scalar:
         self * rhs
     }
 
+    /// `self`/`rhs` for `rhs` > 0 where a quotient to within a few parts
+    /// in a million is enough (the break-away predictor's force rate and
+    /// time): a fixed-point type replaces its exact 64-bit division by a
+    /// reciprocal from a table (no divide instruction on ARMv6-M). Exact
+    /// (IEEE) for `f32`; any `rhs` ≤ 0 takes the exact division.
+    #[inline(always)]
+    fn div_approx(self, rhs: Self) -> Self {
+        self / rhs
+    }
+
     /// The smaller of two numbers.
     #[inline(always)]
     fn min(self, other: Self) -> Self {
@@ -145,6 +155,20 @@ pub trait Curves<T>: Sized + Clone {
     /// Presliding shape g(w) = w·(1 − ln w) for `w` in [0, 1]; 0 for `w ≤ 0`,
     /// 1 for `w ≥ 1` ([presliding](crate::model_overview#presliding)).
     fn shape(&self, w: T) -> T;
+    /// The smallest positive root v of v·S(v) = `c` for `c` ≥ 0 (the
+    /// break-away velocity of [`Variant::Consistent`](crate::Variant)), and
+    /// S(v); `None` when the solve does not converge.
+    ///
+    /// The default is the fixed-point iteration v ← c/S(v) from c/S(0)
+    /// ([`predictor`](crate::predictor)); `f32` and [`Q16`](crate::Q16)
+    /// replace it, where v·S(v) is monotone, by Newton's iteration on their
+    /// tables (with this one as the fallback).
+    fn consistent_root(&self, c: T) -> Option<(T, T)>
+    where
+        T: Scalar,
+    {
+        crate::predictor::fixed_point_root(self, c)
+    }
 }
 
 impl Scalar for f32 {

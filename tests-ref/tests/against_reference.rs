@@ -174,3 +174,72 @@ fn stribeck_matches_reference_over_every_velocity_and_delta() {
         worst.0, worst.1
     );
 }
+
+/// The consistent break-away velocity (the root of v·S(v) = c that
+/// `Curves::consistent_root` finds: Newton's iteration on the table where
+/// v·S is monotone, the fixed-point iteration where it is not) against the
+/// reference's bracketed bisection, over Fs/Fc from 1 to 10 (steep curves
+/// whose v·S has a local maximum included), δ log-uniform from 0.1 to 10
+/// and c/V log-uniform over 14 decades (roots below the table, where δ <
+/// 0.82 leaves S to the kernels, inside it and above it). Where the root
+/// is well conditioned (d(v·S)/dv ≥ S/10 there) v_b is within 1e-5 of the
+/// reference; everywhere v_b·S_ref(v_b) is within 1e-5 of c and v_b is not
+/// a later root than the reference's (within 1 %).
+#[test]
+fn consistent_root_matches_reference_for_steep_curves_and_every_delta() {
+    let mut runner = runner(3000);
+    let cases = (
+        params(0.3..3.0),
+        0.0f32..1.0,   // log10 Fs/Fc
+        -1.0f32..1.0,  // log10 δ
+        -10.0f32..4.0, // log10 c/(V·Fc)
+    );
+    let worst = Mutex::new((0.0f64, String::new()));
+    runner
+        .run(&cases, |(p, log_ratio, log_delta, log_c)| {
+            let p = Params {
+                fs: p.fc * 10f32.powf(log_ratio),
+                delta: 10f32.powf(log_delta),
+                sigma: 0.0,
+                ..p
+            };
+            let model = Model::<f32>::new(p).unwrap();
+            let judge = reference_model(&p);
+            let predictor = BreakAwayPredictor::new(&model, 0.95).unwrap();
+            // k with c = k·z_max/|ln w_b| = 10^log_c·V·Fc.
+            let c = 10f64.powf(f64::from(log_c)) * f64::from(p.v_stribeck) * f64::from(p.fc);
+            let k = (c * 0.95f64.ln().abs() / f64::from(p.z_max)) as f32;
+            let c = f64::from(k) * f64::from(p.z_max) / 0.95f64.ln().abs();
+            let got = predictor.predict(&model, Variant::Consistent, k).unwrap();
+            let want = reference::consistent_root(&judge, c);
+            let v = f64::from(got.v_b);
+            let s = |v: f64| reference::curves::stribeck(&judge, v);
+            let residual = (v * s(v) / c - 1.0).abs();
+            // d(v·S)/dv relative to S at the reference root.
+            let h = 1e-6 * want;
+            let slope = ((want + h) * s(want + h) - (want - h) * s(want - h)) / (2.0 * h) / s(want);
+            let error = (v / want - 1.0).abs();
+            if slope >= 0.1 {
+                record(&worst, error, || format!("c = {c:e}, {p:?}"));
+                prop_assert!(
+                    error <= 1e-5,
+                    "v_b rel. error {error:e} at c = {c:e}, {p:?}"
+                );
+            }
+            prop_assert!(
+                residual <= 1e-5,
+                "residual {residual:e} at c = {c:e}, {p:?}"
+            );
+            prop_assert!(
+                v <= 1.01 * want,
+                "v_b = {v:e}, root {want:e} at c = {c:e}, {p:?}"
+            );
+            Ok(())
+        })
+        .unwrap();
+    let worst = worst.lock().unwrap();
+    println!(
+        "consistent root, Fs/Fc in [1, 10], δ in [0.1, 10]: worst relative error of v_b = {:.3e} ({})",
+        worst.0, worst.1
+    );
+}

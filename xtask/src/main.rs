@@ -26,8 +26,8 @@ const USAGE: &str = "usage: cargo xtask <setup|demo|test|qemu|profile|fuzz|sweep
   demo     set up, then run the firmware examples on the Cortex-M4F under QEMU
   test     set up, then run every check (fmt, clippy, host tests, on-target checks)
   qemu     [NAME…]  the on-target checks under QEMU (those whose name contains NAME)
-  profile  [--target T] [--budget-hz 20000] [--cpu-hz 168000000] [--json]
-           instructions per call of the hot functions under QEMU
+  profile  [--target T] [--rows NAME,…] [--budget-hz 20000] [--cpu-hz 168000000] [--json]
+           instructions per call of the hot functions under QEMU (--rows: only those rows)
   fuzz     [--seconds 60] [--target NAME]  the cargo-fuzz targets (nightly)
   sweep    [--seeds 100000..100160] [--kind mixed|model|outside] [--out DIR] [--json FILE]
            the discrepancy workflow scored on records of the independent generator";

@@ -19,6 +19,11 @@
 //! entered before it. Each row reports its δ: the δ of the model it uses
 //! (1 for the rows that do not depend on δ).
 //!
+//! `--rows a,b` restricts the profile to some rows: the example is built
+//! with `BREAKAWAY_PROFILE_ROWS=a,b` and runs only their passes (the
+//! traced run is then short: on the M0 one row took one minute, build
+//! included, against three and a half for every row).
+//!
 //! The example runs twice per target. A plain run (no log, well under a
 //! second) gives what it prints: the stack depths of its stack pass. The
 //! traced run writes one log line per executed instruction, which is what
@@ -90,12 +95,18 @@ fn marker_delta(symbol: &str) -> Option<f64> {
 /// Every (row, δ) the profile reports, in the order it reports them: the
 /// rows of [`ROWS`] at δ = 1 (today's rows, first, so that the first row of
 /// a name is still its δ = 1 row), then each of [`DELTA_ROWS`] at every δ
-/// of [`EXTRA_DELTAS`].
-fn expected_rows() -> Vec<(usize, f64)> {
-    let mut rows: Vec<(usize, f64)> = (0..ROWS.len()).map(|i| (i, BASE_DELTA)).collect();
+/// of [`EXTRA_DELTAS`]; only the rows named in `only` when it is not empty.
+fn expected_rows(only: &[String]) -> Vec<(usize, f64)> {
+    let selected = |i: usize| only.is_empty() || only.iter().any(|n| n == ROWS[i].1);
+    let mut rows: Vec<(usize, f64)> = (0..ROWS.len())
+        .filter(|&i| selected(i))
+        .map(|i| (i, BASE_DELTA))
+        .collect();
     for name in DELTA_ROWS {
         if let Some(i) = ROWS.iter().position(|(_, n)| *n == name) {
-            rows.extend(EXTRA_DELTAS.iter().map(|&delta| (i, delta)));
+            if selected(i) {
+                rows.extend(EXTRA_DELTAS.iter().map(|&delta| (i, delta)));
+            }
         }
     }
     rows
@@ -112,6 +123,9 @@ pub struct Options {
     pub cpu_hz: f64,
     /// Print JSON instead of the table.
     pub json: bool,
+    /// Only these rows (names of [`ROWS`]; all when empty): the example is
+    /// built with the others left out, so that the traced run is short.
+    pub rows: Vec<String>,
 }
 
 impl Default for Options {
@@ -121,12 +135,14 @@ impl Default for Options {
             budget_hz: 20_000.0,
             cpu_hz: 168_000_000.0,
             json: false,
+            rows: Vec::new(),
         }
     }
 }
 
 impl Options {
-    /// Parses `[--target T] [--budget-hz H] [--cpu-hz H] [--json]`.
+    /// Parses `[--target T] [--rows NAME,…] [--budget-hz H] [--cpu-hz H]
+    /// [--json]`.
     pub fn parse(args: &[String]) -> Result<Self, String> {
         let mut options = Options::default();
         let mut targets = Vec::new();
@@ -150,6 +166,18 @@ impl Options {
                 "--budget-hz" => options.budget_hz = number("--budget-hz", value("--budget-hz")?)?,
                 "--cpu-hz" => options.cpu_hz = number("--cpu-hz", value("--cpu-hz")?)?,
                 "--json" => options.json = true,
+                "--rows" => {
+                    for name in value("--rows")?.split(',') {
+                        if !ROWS.iter().any(|(_, n)| *n == name) {
+                            let known: Vec<&str> = ROWS.iter().map(|(_, n)| *n).collect();
+                            return Err(format!(
+                                "profile: unknown row `{name}` (known: {})",
+                                known.join(", ")
+                            ));
+                        }
+                        options.rows.push(name.to_string());
+                    }
+                }
                 other => return Err(format!("profile: unknown argument `{other}`")),
             }
         }
@@ -181,7 +209,7 @@ pub struct Row {
 pub fn run(options: &Options) -> Result<(), String> {
     let mut rows = Vec::new();
     for &target in &options.targets {
-        rows.extend(measure(target)?);
+        rows.extend(measure(target, &options.rows)?);
     }
     if options.json {
         let items: Vec<serde_json::Value> = rows
@@ -213,7 +241,7 @@ pub fn run(options: &Options) -> Result<(), String> {
 pub fn check_targets() -> Result<(), String> {
     let mut rows = Vec::new();
     for target in qemu::TARGETS {
-        let measured = measure(target)?;
+        let measured = measure(target, &[])?;
         for row in &measured {
             if row.calls == 0 || row.instructions < 5.0 || row.max_stack_bytes < 4 {
                 return Err(format!("profile: implausible row {row:?}"));
@@ -318,8 +346,18 @@ fn singlestep_args() -> Vec<&'static str> {
 /// example prints (the stack depths), then a traced run for the instruction
 /// counts, read while QEMU writes it and stopped where the counted part ends
 /// (the stack pass and what follows it are never logged in full).
-pub fn measure(target: Target) -> Result<Vec<Row>, String> {
-    let elf = qemu::build("cycle_budget", target)?;
+///
+/// `only` restricts the profile to some rows (all when empty): the example
+/// is built with [`qemu::PROFILE_ROWS_VARIABLE`] naming them and runs only their passes.
+pub fn measure(target: Target, only: &[String]) -> Result<Vec<Row>, String> {
+    let filter = only.join(",");
+    // Unset for every row: the same build as `cargo xtask qemu`'s.
+    let value = (!only.is_empty()).then_some(filter.as_str());
+    let elf = qemu::build_with_env(
+        "cycle_budget",
+        target,
+        &[(qemu::PROFILE_ROWS_VARIABLE, value)],
+    )?;
     eprintln!(
         "xtask: profiling cycle_budget on {} ({})",
         target.core, target.machine
@@ -338,7 +376,7 @@ pub fn measure(target: Target) -> Result<Vec<Row>, String> {
     let mut args = singlestep_args();
     args.extend(["-d", "in_asm,exec,nochain", "-D", &log_arg]);
     let mut child = qemu::spawn(&elf, target, &args, Stdio::null())?;
-    let rows = follow_trace(&log, &mut child, target, Duration::from_secs(900));
+    let rows = follow_trace(&log, &mut child, target, only, Duration::from_secs(900));
     // Done with QEMU (running or not): it would go on logging the stack pass.
     let _ = child.kill();
     let _ = child.wait();
@@ -370,6 +408,7 @@ fn follow_trace(
     path: &Path,
     child: &mut Child,
     target: Target,
+    only: &[String],
     limit: Duration,
 ) -> Result<Vec<Row>, String> {
     let start = Instant::now();
@@ -406,7 +445,7 @@ fn follow_trace(
         std::thread::sleep(pause);
     };
     let mut reader = BufReader::with_capacity(1 << 20, file);
-    let mut trace = Trace::new(target);
+    let mut trace = Trace::new(target, only);
     let mut line = String::new();
     // Once QEMU has exited, what remains in the log is read to its end.
     let mut exited = None;
@@ -479,8 +518,8 @@ struct Trace {
 }
 
 impl Trace {
-    fn new(target: Target) -> Self {
-        let expected = expected_rows();
+    fn new(target: Target, only: &[String]) -> Self {
+        let expected = expected_rows(only);
         Self {
             target,
             m0: target.triple.starts_with("thumbv6m"),

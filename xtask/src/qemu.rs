@@ -58,7 +58,31 @@ pub fn target(triple: &str) -> Result<Target, String> {
 /// Builds a firmware example in release mode (features `firmware` and
 /// `hal`); returns the ELF's path.
 pub fn build(example: &str, target: Target) -> Result<PathBuf, String> {
-    run(cargo().args([
+    // `cycle_budget` runs every row unless `cargo xtask profile --rows`
+    // names some.
+    build_with_env(example, target, &[(PROFILE_ROWS_VARIABLE, None)])
+}
+
+/// The build-time variable that restricts `cycle_budget` to some rows
+/// (comma-separated names): `cargo xtask profile --rows`.
+pub const PROFILE_ROWS_VARIABLE: &str = "BREAKAWAY_PROFILE_ROWS";
+
+/// As [`build`], with environment variables for the build (read by the
+/// example with `option_env!`: cargo rebuilds it when they change); `None`
+/// removes a variable.
+pub fn build_with_env(
+    example: &str,
+    target: Target,
+    envs: &[(&str, Option<&str>)],
+) -> Result<PathBuf, String> {
+    let mut command = cargo();
+    for &(name, value) in envs {
+        match value {
+            Some(value) => command.env(name, value),
+            None => command.env_remove(name),
+        };
+    }
+    run(command.args([
         "build",
         "--quiet",
         "--release",
