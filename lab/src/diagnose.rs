@@ -383,10 +383,12 @@ fn fit_multistart(
         }
         first.get_or_insert(full);
     }
-    first.unwrap_or_else(|| starts.first().cloned().unwrap_or_else(base_placeholder))
+    first.unwrap_or_else(|| starts.first().cloned().unwrap_or_else(fig5_model))
 }
 
-fn base_placeholder() -> Model {
+/// The paper's Fig. 5 parameter set as a model (m = 1 kg, no effects): the
+/// placeholder start when no start model fits, and the tests' default.
+pub(crate) fn fig5_model() -> Model {
     Model {
         mass: 1.0,
         fc: 1.0,
@@ -499,7 +501,7 @@ pub fn initial_base(p: &Prepared, progress: &mut dyn FnMut(&str)) -> Model {
             }
         }
     }
-    let start = best.map_or_else(base_placeholder, |(_, m)| m);
+    let start = best.map_or_else(fig5_model, |(_, m)| m);
     progress("base model: fitting");
     let params = fit::params_of(&start);
     fit::fit(p, &start, &params, &FitOptions::default(), &mut |_| {}).model

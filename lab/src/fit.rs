@@ -1470,17 +1470,7 @@ mod tests {
                 force: 32,
             },
         );
-        let mut m = Model {
-            mass: 1.0,
-            fc: 1.0,
-            fs: 1.5,
-            v_stribeck: 1e-3,
-            delta: 1.0,
-            sigma: 0.0,
-            z_max: 1e-5,
-            epsilon: 0.0,
-            effects: Default::default(),
-        };
+        let mut m = crate::diagnose::fig5_model();
         m.effects.dwell_stiction = Some(DwellStiction {
             delta_fs: 0.5,
             gamma: 0.5,
