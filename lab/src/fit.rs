@@ -190,9 +190,10 @@ fn quantisation_window(rec: &crate::data::Record) -> usize {
 /// when the record has at least [`MIN_STABLE_WINDOWS`] of them; otherwise
 /// all. On the outside generator's example records it gives 0.0076,
 /// 0.0247, 0.0040 and 0.0160 N for a true 0.0076, 0.0247, 0.0039 and
-/// 0.0157 N (all windows: 0.0077, 0.0249, 0.0041, 0.0159 N). On development records of position loops at fine encoder
-/// resolution, all windows read up to 34× the true noise, the count-stable
-/// ones 0.95–1.11× (143 time records: median 1.02× and 1.01×).
+/// 0.0157 N (all windows: 0.0077, 0.0249, 0.0041, 0.0159 N). On
+/// development records of position loops at fine encoder resolution, all
+/// windows read up to 34× the true noise, the count-stable ones 0.95–1.11×
+/// (143 time records: median 1.02× and 1.01×).
 pub fn force_noise(u: &[f64], x: &[f64]) -> f64 {
     let third = |i: usize| (u[i + 3] - 3.0 * u[i + 2] + 3.0 * u[i + 1] - u[i]).abs();
     let n = u.len().min(x.len());
