@@ -257,7 +257,7 @@ pub fn diagnose(args: DiagnoseArgs, out: &mut dyn Write) -> Result<(), Error> {
     }
     if crate::steady::is_steady(&data) {
         let rec = crate::steady::SteadyRecord::new(crate::steady::read(&data)?);
-        let rep = crate::steady::diagnose_steady(&rec);
+        let rep = crate::steady::diagnose_steady(&rec, &candidates);
         if let Some(j) = &json {
             write_file(j, &crate::steady::report_json(&rep))?;
         }
