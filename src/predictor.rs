@@ -209,9 +209,12 @@ impl<T: Scalar> BreakAwayPredictor<T> {
         }
         .saturate();
         let (v_b, s) = match variant {
+            // Saturated like the other variants' c/F̂ (a root beyond the
+            // number range, found by the fuzzer: Fs = 1e-31 N, c = 6e7).
             Variant::Consistent => model
                 .curves
                 .consistent_root(c)
+                .map(|(v, s)| (v.saturate(), s))
                 .ok_or(PredictError::NoConvergence)?,
             _ => {
                 let v_b = velocity_for(model, variant, c)?;

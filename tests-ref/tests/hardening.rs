@@ -2,7 +2,7 @@
 //! reference after 10⁸ samples of random motion, and after 10³ m of travel
 //! followed by a 2 µm reversal.
 
-use breakaway::{Model, Params, Presliding, Scalar, Q16};
+use breakaway::{BreakAwayPredictor, Model, Params, Presliding, Scalar, Variant, Q16};
 use breakaway_reference as reference;
 
 mod common;
@@ -170,6 +170,46 @@ fn stribeck_table_never_exceeds_fs() {
                 "|H| = {} > Fs at x = {x}, v = {v}",
                 axis.dry()
             );
+        }
+    }
+}
+
+/// Fuzz finding (target `breakaway`): with Fs = 1.3e-31 N, V = 2e6 m/s and
+/// z_max = 9e21 m the consistent root v·S(v) = c lies beyond the f32 range;
+/// the Newton solve returned v_b = ∞. Every variant now saturates v_b, so
+/// the prediction stays finite (and the dry part within [Fc, Fs]).
+#[test]
+fn consistent_root_beyond_the_range_saturates() {
+    let bits = [
+        0x0580_00f7u32,
+        0x0c26_2600,
+        0x4a00_0000,
+        0x3b7f_ffff,
+        0x004a_0005,
+        0x6400_0000,
+        0x000a_0000,
+    ];
+    let [fc, fs, v_stribeck, delta, sigma, z_max, epsilon] = bits.map(f32::from_bits);
+    let p = Params {
+        fc,
+        fs,
+        v_stribeck,
+        delta,
+        sigma,
+        z_max,
+        epsilon,
+    };
+    let model = Model::<f32>::new(p).unwrap();
+    let predictor = BreakAwayPredictor::new(&model, f32::from_bits(0xc3)).unwrap();
+    let k = f32::from_bits(0x2b2b_2b2b);
+    for variant in Variant::ALL {
+        if let Ok(ba) = predictor.predict(&model, variant, k) {
+            assert!(
+                ba.v_b.is_finite() && ba.f_ba.is_finite() && ba.t_ba.is_finite(),
+                "{variant:?}: {ba:?}"
+            );
+            let dry = ba.f_ba - p.sigma * ba.v_b;
+            assert!(dry <= p.fs * (1.0 + 1e-4), "{variant:?}: dry {dry} > Fs");
         }
     }
 }
