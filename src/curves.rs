@@ -283,7 +283,11 @@ impl Curves<f32> for CurvesF32 {
             // (relative), so the error left after this step is about
             // stepₙ³/stepₙ₋₁². NaN (an iterate gone astray) fails the test.
             if relative * relative * relative <= NEWTON_TOLERANCE * last * last {
-                let s = s + slope * step;
+                // The tangent's S at the root; where the slope overflows
+                // (δ ≈ 1e-10 at u ≈ 1e-21, a fuzz finding) the product is
+                // NaN and the table's S at the last iterate is kept.
+                let refined = s + slope * step;
+                let s = if refined.is_nan() { s } else { refined };
                 return Some((next * self.v_stribeck, self.clamp(s)));
             }
             u = next;
@@ -306,16 +310,16 @@ const NEWTON_RANGE: f32 = f32::MAX / 4.0;
 
 impl CurvesF32 {
     /// `s` clamped to [min(Fc, Fs), max(Fc, Fs)] by two plain comparisons
-    /// (`f32::max`/`min` handle NaN and cost 33 instructions per update on
-    /// the M4F; `s` is never NaN here).
+    /// (`f32::max`/`min` cost 33 instructions per update on the M4F); a NaN
+    /// fails both and becomes min(Fc, Fs), so no NaN leaves the curve.
     #[inline(always)]
     fn clamp(&self, s: f32) -> f32 {
         if s > self.high {
             self.high
-        } else if s < self.low {
-            self.low
-        } else {
+        } else if s >= self.low {
             s
+        } else {
+            self.low
         }
     }
 

@@ -213,3 +213,43 @@ fn consistent_root_beyond_the_range_saturates() {
         }
     }
 }
+
+/// Fuzz finding (target `breakaway`): with δ = 7.6e-11 the Stribeck slope
+/// at u = |v|/V ≈ 1e-21 overflows, and the Newton solve's tangent update of
+/// S at the root was NaN, which gave F_ba = t_ba = 0 below Fc = 2e34 N. The
+/// table's S is kept there, and the clamp turns any NaN into min(Fc, Fs).
+#[test]
+fn consistent_level_stays_within_fc_and_fs_at_an_extreme_shape() {
+    let bits = [
+        0x7878_30f6u32,
+        0x7878_7878,
+        0x2e78_7878,
+        0x2ea6_db1e,
+        0x3e1e_0124,
+        0x693e_3e3e,
+        0x0000_d607,
+    ];
+    let [fc, fs, v_stribeck, delta, sigma, z_max, epsilon] = bits.map(f32::from_bits);
+    let p = Params {
+        fc,
+        fs,
+        v_stribeck,
+        delta,
+        sigma,
+        z_max,
+        epsilon,
+    };
+    let model = Model::<f32>::new(p).unwrap();
+    let predictor = BreakAwayPredictor::new(&model, f32::from_bits(0x0600_0100)).unwrap();
+    for k in [0x3e3e_3ef3u32, 0x1f06_0001] {
+        let k = f32::from_bits(k);
+        for variant in Variant::ALL {
+            let ba = predictor.predict(&model, variant, k).unwrap();
+            let dry = ba.f_ba - p.sigma * ba.v_b;
+            assert!(
+                dry >= p.fc * (1.0 - 1e-4) && dry <= p.fs * (1.0 + 1e-4),
+                "{variant:?} at k = {k:e}: {ba:?}"
+            );
+        }
+    }
+}
