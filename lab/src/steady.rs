@@ -360,8 +360,7 @@ fn without_stribeck(rec: &SteadyRecord, m: &Model) -> Model {
 /// the final model.
 fn select(rec: &SteadyRecord, mut model: Model, allowed: &[Effect]) -> Selection {
     let noise = rec.noise();
-    let n_held = rec.count(true).max(1) as f64;
-    let bic = |rms: f64, k: usize| n_held * (rms * rms).max(1e-300).ln() + k as f64 * n_held.ln();
+    let bic = |rms: f64, k: usize| held_bic(rec, rms, k);
     let mut rms = rec.rms(&model, true);
     let mut steps = Vec::new();
     let mut rejected = Vec::new();
@@ -438,6 +437,13 @@ fn select(rec: &SteadyRecord, mut model: Model, allowed: &[Effect]) -> Selection
     }
 }
 
+/// `BIC = n·ln(rms²) + k·ln(n)` over the held-out points of `rec`, for a
+/// held-out rms [N] and `k` parameters.
+fn held_bic(rec: &SteadyRecord, rms: f64, k: usize) -> f64 {
+    let n = rec.count(true).max(1) as f64;
+    n * (rms * rms).max(1e-300).ln() + k as f64 * n.ln()
+}
+
 /// What one order of [`select`] ends with.
 struct Selection {
     steps: Vec<SteadyStep>,
@@ -483,11 +489,7 @@ pub fn diagnose_steady(rec: &SteadyRecord, candidates: &[Effect]) -> SteadyRepor
         .filter(|e| candidates.is_empty() || candidates.contains(e))
         .collect();
     let full = base(rec);
-    let n_held = rec.count(true).max(1) as f64;
-    let bic = |m: &Model| {
-        let r = rec.rms(m, true);
-        n_held * (r * r).max(1e-300).ln() + params_of(m).len() as f64 * n_held.ln()
-    };
+    let bic = |m: &Model| held_bic(rec, rec.rms(m, true), params_of(m).len());
     let (start, sel, dropped) = match degenerate(&full, Effect::Stribeck) {
         None => {
             let sel = select(rec, full.clone(), &allowed);

@@ -189,16 +189,7 @@ fn consistent_root_beyond_the_range_saturates() {
         0x6400_0000,
         0x000a_0000,
     ];
-    let [fc, fs, v_stribeck, delta, sigma, z_max, epsilon] = bits.map(f32::from_bits);
-    let p = Params {
-        fc,
-        fs,
-        v_stribeck,
-        delta,
-        sigma,
-        z_max,
-        epsilon,
-    };
+    let p = params_from_bits(bits);
     let model = Model::<f32>::new(p).unwrap();
     let predictor = BreakAwayPredictor::new(&model, f32::from_bits(0xc3)).unwrap();
     let k = f32::from_bits(0x2b2b_2b2b);
@@ -229,16 +220,7 @@ fn consistent_level_stays_within_fc_and_fs_at_an_extreme_shape() {
         0x693e_3e3e,
         0x0000_d607,
     ];
-    let [fc, fs, v_stribeck, delta, sigma, z_max, epsilon] = bits.map(f32::from_bits);
-    let p = Params {
-        fc,
-        fs,
-        v_stribeck,
-        delta,
-        sigma,
-        z_max,
-        epsilon,
-    };
+    let p = params_from_bits(bits);
     let model = Model::<f32>::new(p).unwrap();
     let predictor = BreakAwayPredictor::new(&model, f32::from_bits(0x0600_0100)).unwrap();
     for k in [0x3e3e_3ef3u32, 0x1f06_0001] {
@@ -251,5 +233,20 @@ fn consistent_level_stays_within_fc_and_fs_at_an_extreme_shape() {
                 "{variant:?} at k = {k:e}: {ba:?}"
             );
         }
+    }
+}
+
+/// A parameter set from the fuzzer's seven words (the order of
+/// `fuzz/fuzz_targets/common.rs`: Fc, Fs, V, δ, σ, z_max, ε).
+fn params_from_bits(bits: [u32; 7]) -> Params {
+    let [fc, fs, v_stribeck, delta, sigma, z_max, epsilon] = bits.map(f32::from_bits);
+    Params {
+        fc,
+        fs,
+        v_stribeck,
+        delta,
+        sigma,
+        z_max,
+        epsilon,
     }
 }
