@@ -519,6 +519,15 @@ pub fn base_weights(p: &mut Prepared, progress: &mut dyn FnMut(&str)) -> Model {
     // with error weights and take the weights from that fit.
     let params = fit::params_of(&model);
     model = fit::fit(p, &model, &params, &FitOptions::default(), &mut |_| {}).model;
+    if degenerate(p, &model, Effect::Stribeck).is_some() {
+        // A local minimum with V → 0 or δ at a bound: restart the shape
+        // from the data's low speeds before calling Stribeck absent, and
+        // before the weights and the floor are taken from this model (a
+        // dip run to its bound, Fs = 11·Fc on a slow stick-slip record,
+        // makes every moving sample "explained by resolution" and the
+        // floor larger than the record's whole rms).
+        model = restart_dip(p, model, progress);
+    }
     let r1 = p.residual(&model);
     p.set_error_weights(&model, &r1);
     model
@@ -746,6 +755,29 @@ fn candidate_starts(p: &Prepared, m: &Model, effect: Effect, r: &[f64]) -> Vec<M
             }
         }
     }
+    // A dip lost while the effect was missing (a symmetric dip cannot
+    // follow an offset or an asymmetry, so the base fit ran it to Fs = Fc
+    // or to a bound) does not come back in a local fit, and without it
+    // `offset` and `asymmetry` are the same constant shift: the first
+    // start is also tried with the dip seeded again, every start for the
+    // two look-alikes, which the dip tells apart.
+    if !matches!(
+        effect,
+        Effect::Stribeck | Effect::Presliding | Effect::FrictionalLag
+    ) && dip_lost(p, m)
+    {
+        let take = if look_alike(effect).is_some() {
+            out.len()
+        } else {
+            1
+        };
+        let seeded: Vec<Model> = out
+            .iter()
+            .take(take)
+            .flat_map(|c| dip_seeds(p, c))
+            .collect();
+        out.extend(seeded);
+    }
     // A base model that used δ at the edge of its range to mimic the
     // missing effect is also restarted from δ = 2.
     if m.delta > 3.0 || m.delta < 0.5 {
@@ -926,6 +958,42 @@ fn low_speed(p: &Prepared) -> Option<f64> {
     (v.is_finite() && v > 0.0).then_some(v)
 }
 
+/// `m`, or the best of its shape [`restarts`] when that has the lower
+/// held-out RMS.
+fn restart_dip(p: &Prepared, m: Model, show: &mut dyn FnMut(&str)) -> Model {
+    let starts = restarts(p, &m);
+    let sound = |c: &Model| degenerate(p, c, Effect::Stribeck).is_none();
+    let again = fit_multistart(p, &starts, &sound, &mut |s| {
+        show(&format!("restarting the Stribeck shape ({s})"))
+    });
+    if held_rms(p, &again).0 < held_rms(p, &m).0 {
+        again
+    } else {
+        m
+    }
+}
+
+/// Whether `m`'s Stribeck dip is absent (`Fs = Fc`) or degenerate.
+fn dip_lost(p: &Prepared, m: &Model) -> bool {
+    !fit::has_effect(m, Effect::Stribeck) || degenerate(p, m, Effect::Stribeck).is_some()
+}
+
+/// `m` with its Stribeck dip seeded again: `Fs = 1.4·Fc`, δ = 2, `V` at
+/// 1 and 3 times the 20 % speed quantile (the base grid's middle).
+fn dip_seeds(p: &Prepared, m: &Model) -> Vec<Model> {
+    let v_lo = low_speed(p).unwrap_or(1e-3);
+    [1.0, 3.0]
+        .into_iter()
+        .map(|vf| {
+            let mut c = m.clone();
+            c.fs = 1.4 * c.fc;
+            c.v_stribeck = vf * v_lo;
+            c.delta = 2.0;
+            c
+        })
+        .collect()
+}
+
 /// Restarts of the base shape: `V` at 0.3, 1 and 3 times the 20 % speed
 /// quantile, δ = 1 and 2, `Fs = 1.4·Fc`, the rest of `m` kept.
 fn restarts(p: &Prepared, m: &Model) -> Vec<Model> {
@@ -971,6 +1039,11 @@ pub fn degenerate(p: &Prepared, m: &Model, effect: Effect) -> Option<String> {
                 Some(format!("delta = {:.4} at a bound of its range", m.delta))
             } else if m.fs - m.fc < 1e-3 * m.fc {
                 Some("Fs - Fc below 0.1 % of Fc".into())
+            } else if m.fs - m.fc > 0.99 * fit::FS_EXCESS_MAX * m.fc {
+                Some(format!(
+                    "Fs = {:.3}·Fc at the bound of its range",
+                    m.fs / m.fc
+                ))
             } else {
                 None
             }
@@ -1000,9 +1073,16 @@ pub fn degenerate(p: &Prepared, m: &Model, effect: Effect) -> Option<String> {
     }
 }
 
+/// Smallest exponent `n` for which `nonlinear_viscous` is a finding:
+/// below it `|v|^n` changes by less than 1.4× per decade of speed (0.15),
+/// a level that trades with Fc (on a ramp record a fit ran to n = 0.053
+/// beside `viscous` and moved Fc by a third).
+pub const NV_MIN_EXPONENT: f64 = 0.15;
+
 /// Why `m`'s `nonlinear_viscous` term is not a finding, or `None`:
 /// `n = 1` is `viscous` (MODEL.md §5 names it only for n ≠ 1), and an `n`
-/// at the lower bound of [`fit::NV_EXP_RANGE`] is not identified (the upper, 2, is MODEL.md's limit).
+/// at the lower bound of [`fit::NV_EXP_RANGE`] is not identified (the upper, 2, is MODEL.md's limit),
+/// nor one below [`NV_MIN_EXPONENT`].
 pub fn nonlinear_viscous_degenerate(m: &Model) -> Option<String> {
     let nv = m.effects.nonlinear_viscous?;
     let near = |x: f64, bound: f64| (x / bound).ln().abs() < 0.02;
@@ -1012,6 +1092,11 @@ pub fn nonlinear_viscous_degenerate(m: &Model) -> Option<String> {
         // The upper end, n = 2, is MODEL.md's own limit and a valid value;
         // the lower end is only the fit's.
         Some(format!("n = {:.3} at the lower bound of its range", nv.n))
+    } else if nv.n < NV_MIN_EXPONENT {
+        Some(format!(
+            "n = {:.3} is a second Coulomb level, not a velocity strengthening",
+            nv.n
+        ))
     } else {
         None
     }
@@ -1366,18 +1451,6 @@ pub fn diagnose(
     show("refitting with error weights");
     let params = fit::params_of(&model);
     model = fit::fit(&p, &model, &params, &FitOptions::default(), &mut |_| {}).model;
-    if start.is_none() && degenerate(&p, &model, Effect::Stribeck).is_some() {
-        // A local minimum with V → 0 or δ at a bound: restart the shape
-        // from the data's low speeds before calling Stribeck absent.
-        let starts = restarts(&p, &model);
-        let sound = |m: &Model| degenerate(&p, m, Effect::Stribeck).is_none();
-        let again = fit_multistart(&p, &starts, &sound, &mut |s| {
-            show(&format!("restarting the base fit ({s})"))
-        });
-        if held_rms(&p, &again).0 < held_rms(&p, &model).0 {
-            model = again;
-        }
-    }
     // A degenerate base part is kept while effects are missing (they can
     // bend the base fit); the final model is simplified below.
     let mut dropped = Vec::new();
@@ -1393,12 +1466,26 @@ pub fn diagnose(
     let allowed = |e: Effect| opts.candidates.is_empty() || opts.candidates.contains(&e);
     let mut steps = Vec::new();
     let mut last_round = Vec::new();
+    // Whether a round restarted the Stribeck shape after a step: the
+    // step's choice among look-alikes was then made on another base.
+    let mut reshaped = false;
     for round in 0..MAX_ROUNDS {
         let missing: Vec<Effect> = Effect::ALL
             .into_iter()
             .filter(|&e| !fit::has_effect(&model, e) && allowed(e))
             .filter(|e| !dropped.iter().any(|(d, _)| d == e))
             .collect();
+        if round > 0 && dip_lost(&p, &model) {
+            // The candidates below may seed the dip again (see
+            // `candidate_starts`): what the dip alone gains is taken here
+            // first, unnamed, so that no effect is credited with it.
+            let again = restart_dip(&p, model.clone(), &mut show);
+            if again != model {
+                reshaped = true;
+                model = again;
+                (rms, r) = held_rms(&p, &model);
+            }
+        }
         let mut cands = Vec::new();
         let n_cur = fit::params_of(&model).len();
         let bic_cur = bic(&p, rms, n_cur);
@@ -1511,9 +1598,13 @@ pub fn diagnose(
     // the look-alike of a runner-up of its round (nonlinear_viscous for
     // viscous beside drift, asymmetry for offset). With the others in
     // place, each added effect is replaced by the runner-ups of its round
-    // (the two next best) when one gives a lower held-out BIC.
+    // (the two next best) when one gives a lower held-out BIC. So too for
+    // a single look-alike, and after a restarted Stribeck shape: `offset`
+    // and `asymmetry` tie exactly on a base without a dip and differ once
+    // it is back, and a step that brought the dip back with one of them
+    // fitted the other from the old base.
     let mut swapped = Vec::new();
-    if steps.len() > 1 {
+    if steps.len() > 1 || reshaped || steps.iter().any(|s| look_alike(s.effect).is_some()) {
         for step in steps.iter_mut() {
             let effect = step.effect;
             let alts: Vec<Effect> = step
@@ -1887,4 +1978,72 @@ pub fn report_text(rep: &Report, source: &str) -> String {
 /// Parameter list for `fit` output.
 pub fn params_json(params: &[Param]) -> Vec<String> {
     params.iter().map(|p| format!("{p:?}")).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::data::Record;
+    use crate::fit::Window;
+
+    /// A reversing motion quantised to 1 µm, for starting models only.
+    fn prepared() -> Prepared {
+        let t: Vec<f64> = (0..2000).map(|i| i as f64 * 1e-3).collect();
+        let x: Vec<f64> = t
+            .iter()
+            .map(|&t| (2e-3 * (3.0 * t).sin() / 1e-6).round() * 1e-6)
+            .collect();
+        let rec = Record {
+            u: t.iter().map(|&t| (3.0 * t).cos()).collect(),
+            t,
+            x,
+            v: None,
+            source: "test".into(),
+        };
+        Prepared::with_window(
+            &rec,
+            Window {
+                velocity: 4,
+                force: 32,
+            },
+        )
+    }
+
+    /// A base whose dip ran to `Fs = Fc` has it seeded again in the
+    /// candidates' starts (without it `offset` and `asymmetry` are one
+    /// constant shift); a sound dip is left alone.
+    #[test]
+    fn a_lost_dip_is_seeded_again_in_the_candidate_starts() {
+        let p = prepared();
+        let r = vec![0.0; p.len()];
+        let v_lo = low_speed(&p).expect("moving samples");
+        let mut lost = fig5_model();
+        lost.fs = lost.fc;
+        lost.z_max = 20.0 * p.resolution;
+        let mut sound = lost.clone();
+        sound.fs = 1.5 * sound.fc;
+        sound.v_stribeck = v_lo;
+        assert!(dip_lost(&p, &lost) && !dip_lost(&p, &sound));
+        // Every start of the look-alikes (one for `offset`, three for
+        // `asymmetry`), the first of the others.
+        for (effect, want) in [
+            (Effect::Offset, 2),
+            (Effect::Asymmetry, 6),
+            (Effect::Viscous, 2),
+        ] {
+            let seeded = |m: &Model| {
+                candidate_starts(&p, m, effect, &r)
+                    .iter()
+                    .filter(|c| fit::has_effect(c, Effect::Stribeck))
+                    .filter(|c| c.delta == 2.0 && (c.fs / c.fc - 1.4).abs() < 1e-12)
+                    .count()
+            };
+            assert_eq!(seeded(&lost), want, "{effect}");
+            assert_eq!(seeded(&sound), 0, "{effect}");
+        }
+        // A dip at the bound of its range is lost too.
+        let mut high = sound.clone();
+        high.fs = (1.0 + fit::FS_EXCESS_MAX) * high.fc;
+        assert!(degenerate(&p, &high, Effect::Stribeck).is_some());
+    }
 }

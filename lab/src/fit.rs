@@ -977,6 +977,11 @@ pub fn params_of(m: &Model) -> Vec<Param> {
 /// Range of the fitted shape exponent δ (MODEL.md §2: typically 0.5 … 2).
 pub const DELTA_RANGE: (f64, f64) = (0.3, 4.0);
 
+/// Largest `(Fs − Fc)/Fc` a fit may reach (a stiction level eleven times
+/// the Coulomb level is far outside what axes show; a fit that runs there
+/// has found no dip).
+pub const FS_EXCESS_MAX: f64 = 10.0;
+
 /// Lower bound used for log-scaled values that are 0 in a model.
 const TINY: f64 = 1e-300;
 
@@ -1036,7 +1041,7 @@ fn set(m: &mut Model, p: Param, th: f64, t_span: f64) {
         // Fs ≤ 11·Fc and V ≥ 1 nm/s: beyond, the curve is a spike at v = 0
         // that no record resolves (a base fit once ran to Fs = 7e86 N with
         // V = 1e-87 m/s).
-        Param::FsExcess => m.fs = m.fc + th.clamp(-200.0, 200.0).exp().min(10.0 * m.fc),
+        Param::FsExcess => m.fs = m.fc + th.clamp(-200.0, 200.0).exp().min(FS_EXCESS_MAX * m.fc),
         Param::VStribeck => m.v_stribeck = th.clamp(-200.0, 200.0).exp().max(1e-9),
         Param::Delta => {
             let u = 1.0 / (1.0 + (-th.clamp(-40.0, 40.0)).exp());

@@ -309,8 +309,20 @@ fn with_effect(m: &Model, effect: Effect, rec: &SteadyRecord) -> Vec<Model> {
             }
         }
         Effect::Offset => {
-            c.effects.offset = Some(Offset { f0: 0.0 });
-            out.push(c);
+            // From zero and from the mean residual (the least-squares
+            // offset with the rest held).
+            let n = rec.points.len().max(1) as f64;
+            let mean = rec
+                .points
+                .iter()
+                .map(|p| p.tau - steady_force(m, p.v))
+                .sum::<f64>()
+                / n;
+            for f0 in [0.0, mean] {
+                let mut c = m.clone();
+                c.effects.offset = Some(Offset { f0 });
+                out.push(c);
+            }
         }
         Effect::Asymmetry => {
             for a in [0.1, -0.1] {
@@ -325,6 +337,19 @@ fn with_effect(m: &Model, effect: Effect, rec: &SteadyRecord) -> Vec<Model> {
         | Effect::Drift
         | Effect::Stribeck
         | Effect::Presliding => {}
+    }
+    // A base dip bent to a bound of δ while the effect was missing is
+    // also restarted from δ = 2 (an offset fitted from δ = 4 stopped at
+    // 3.5× the asymmetry's rms on a record with equal dips).
+    if degenerate(m, Effect::Stribeck).is_some() {
+        let again: Vec<Model> = out
+            .iter()
+            .map(|c| Model {
+                delta: 2.0,
+                ..c.clone()
+            })
+            .collect();
+        out.extend(again);
     }
     out
 }
