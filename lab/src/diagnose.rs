@@ -193,6 +193,10 @@ pub struct Step {
     pub signal: (String, f64),
     /// Every candidate of the round, best first.
     pub candidates: Vec<Candidate>,
+    /// The round's candidates whose fit ran the Stribeck dip to its bound
+    /// (not a finding; still runner-ups for the swap pass, from the base
+    /// without this step's effect), best first.
+    pub held_back: Vec<Candidate>,
     /// Residual before the step (all samples).
     pub residual_before: Vec<f64>,
 }
@@ -966,11 +970,25 @@ fn restart_dip(p: &Prepared, m: Model, show: &mut dyn FnMut(&str)) -> Model {
     let again = fit_multistart(p, &starts, &sound, &mut |s| {
         show(&format!("restarting the Stribeck shape ({s})"))
     });
-    if held_rms(p, &again).0 < held_rms(p, &m).0 {
+    if !dip_run_to_bound(&m, &again) && held_rms(p, &again).0 < held_rms(p, &m).0 {
         again
     } else {
         m
     }
+}
+
+/// Whether `m` holds a Stribeck level `Fs` at the top of its range.
+fn fs_at_bound(m: &Model) -> bool {
+    fit::has_effect(m, Effect::Stribeck) && m.fs - m.fc > 0.99 * fit::FS_EXCESS_MAX * m.fc
+}
+
+/// Whether `fitted` holds a Stribeck level at the top of its range that
+/// the current model `current` did not hold: a seeded or bent dip that a
+/// candidate ran to the bound (on EMPS, `Fs = 11·Fc` beside `viscous`: a
+/// hump standing in for the Coulomb level, written as a model) is not a
+/// finding of the candidate.
+fn dip_run_to_bound(current: &Model, fitted: &Model) -> bool {
+    fs_at_bound(fitted) && !fs_at_bound(current)
 }
 
 /// Whether `m`'s Stribeck dip is absent (`Fs = Fc`) or degenerate.
@@ -1039,7 +1057,7 @@ pub fn degenerate(p: &Prepared, m: &Model, effect: Effect) -> Option<String> {
                 Some(format!("delta = {:.4} at a bound of its range", m.delta))
             } else if m.fs - m.fc < 1e-3 * m.fc {
                 Some("Fs - Fc below 0.1 % of Fc".into())
-            } else if m.fs - m.fc > 0.99 * fit::FS_EXCESS_MAX * m.fc {
+            } else if fs_at_bound(m) {
                 Some(format!(
                     "Fs = {:.3}·Fc at the bound of its range",
                     m.fs / m.fc
@@ -1115,7 +1133,12 @@ fn simplify(
     progress: &mut dyn FnMut(&str),
 ) -> (Model, Vec<(Effect, String)>) {
     let mut dropped = Vec::new();
-    for part in [Effect::Stribeck, Effect::Presliding] {
+    // Stribeck once more after presliding: the refit without presliding
+    // can run the dip to its bound (EMPS: Fs from 6.9·Fc to 11·Fc).
+    for part in [Effect::Stribeck, Effect::Presliding, Effect::Stribeck] {
+        if dropped.iter().any(|(d, _)| *d == part) {
+            continue;
+        }
         if !fit::has_effect(&m, part) || (!by_rms && degenerate(p, &m, part).is_none()) {
             continue;
         }
@@ -1128,6 +1151,7 @@ fn simplify(
         // (its refit without is worse by more than DEGENERATE_KEEP); a
         // sound one only when it does not help by KEEP_GAIN.
         let reason = match degenerate(p, &m, part) {
+            Some(why) if part == Effect::Stribeck && fs_at_bound(&m) => Some(why),
             Some(why) if without_rms <= (1.0 + DEGENERATE_KEEP) * with_rms => Some(why),
             Some(_) => None,
             None => (without_rms <= (1.0 + KEEP_GAIN) * with_rms).then(|| {
@@ -1486,7 +1510,7 @@ pub fn diagnose(
                 (rms, r) = held_rms(&p, &model);
             }
         }
-        let mut cands = Vec::new();
+        let (mut cands, mut held_back) = (Vec::new(), Vec::new());
         let n_cur = fit::params_of(&model).len();
         let bic_cur = bic(&p, rms, n_cur);
         for (ci, &effect) in missing.iter().enumerate() {
@@ -1500,7 +1524,8 @@ pub fn diagnose(
                 ci + 1,
                 missing.len()
             );
-            let sound = |m: &Model| degenerate(&p, m, effect).is_none();
+            let sound =
+                |m: &Model| degenerate(&p, m, effect).is_none() && !dip_run_to_bound(&model, m);
             let fitted = fit_multistart(&p, &starts, &sound, &mut |s| {
                 show(&format!("{label} ({s})"))
             });
@@ -1524,14 +1549,20 @@ pub fn diagnose(
             }
             let (c_rms, _) = held_rms(&p, &fitted);
             let score = bic(&p, c_rms, fit::params_of(&fitted).len()) - bic_cur;
-            cands.push(Candidate {
+            let candidate = Candidate {
                 effect,
                 rms: c_rms,
                 score,
                 model: fitted,
-            });
+            };
+            if dip_run_to_bound(&model, &candidate.model) {
+                held_back.push(candidate);
+            } else {
+                cands.push(candidate);
+            }
         }
         cands.sort_by(|a, b| a.score.total_cmp(&b.score));
+        held_back.sort_by(|a, b| a.score.total_cmp(&b.score));
         prefer_nested(&mut cands, floor);
         let accept = cands
             .first()
@@ -1555,6 +1586,7 @@ pub fn diagnose(
             model: best.model.clone(),
             signal: sig,
             candidates: cands,
+            held_back,
             residual_before: r.clone(),
         });
         model = best.model;
@@ -1607,10 +1639,15 @@ pub fn diagnose(
     if steps.len() > 1 || reshaped || steps.iter().any(|s| look_alike(s.effect).is_some()) {
         for step in steps.iter_mut() {
             let effect = step.effect;
-            let alts: Vec<Effect> = step
+            let mut runner_ups: Vec<&Candidate> = step
                 .candidates
                 .iter()
                 .skip(1)
+                .chain(&step.held_back)
+                .collect();
+            runner_ups.sort_by(|a, b| a.score.total_cmp(&b.score));
+            let alts: Vec<Effect> = runner_ups
+                .iter()
                 .take(2)
                 .map(|c| c.effect)
                 .filter(|&c| !fit::has_effect(&model, c))
@@ -1630,9 +1667,10 @@ pub fn diagnose(
                 if starts.is_empty() {
                     continue;
                 }
-                let sound = |m: &Model| degenerate(&p, m, alt).is_none();
+                let sound =
+                    |m: &Model| degenerate(&p, m, alt).is_none() && !dip_run_to_bound(&base, m);
                 let fitted = fit_multistart(&p, &starts, &sound, &mut |_| {});
-                if !fit::has_effect(&fitted, alt) || degenerate(&p, &fitted, alt).is_some() {
+                if !fit::has_effect(&fitted, alt) || !sound(&fitted) {
                     continue;
                 }
                 let a_rms = held_rms(&p, &fitted).0;
@@ -1662,6 +1700,25 @@ pub fn diagnose(
         model = simpler;
         (rms, r) = held_rms(&p, &model);
         dropped.extend(more);
+        // Without a dip `offset` and `asymmetry` are one shift (`F0` and
+        // `a·Fc`): only their sum is identified. The one named later goes.
+        let both = [Effect::Offset, Effect::Asymmetry].map(|e| fit::has_effect(&model, e));
+        if both == [true, true] && !fit::has_effect(&model, Effect::Stribeck) {
+            if let Some(k) = steps.iter().rposition(|s| look_alike(s.effect).is_some()) {
+                let effect = steps.remove(k).effect;
+                let without = remove_effect(&model, effect, &p);
+                let params = fit::params_of(&without);
+                let refit =
+                    fit::fit(&p, &without, &params, &FitOptions::default(), &mut |_| {}).model;
+                let (w_rms, w_r) = held_rms(&p, &refit);
+                pruned.push((
+                    effect,
+                    fit::model_error(w_rms, floor),
+                    fit::model_error(rms, floor),
+                ));
+                (model, rms, r) = (refit, w_rms, w_r);
+            }
+        }
     }
     let model = tidy(&p, model);
     progress.finish();
@@ -2007,6 +2064,29 @@ mod tests {
                 force: 32,
             },
         )
+    }
+
+    /// A dip at the top of its range is degenerate, a candidate that runs
+    /// a dip there is held back (unless the current model's was there
+    /// already), and `simplify` drops it even when it helps the fit.
+    #[test]
+    fn a_dip_at_its_upper_bound_is_held_back_and_dropped() {
+        let p = prepared();
+        let mut inner = fig5_model();
+        inner.v_stribeck = low_speed(&p).expect("moving samples");
+        inner.delta = 2.0;
+        let mut top = inner.clone();
+        top.fs = (1.0 + fit::FS_EXCESS_MAX) * top.fc;
+        assert!(fs_at_bound(&top) && !fs_at_bound(&inner));
+        assert!(degenerate(&p, &top, Effect::Stribeck).is_some());
+        assert!(dip_run_to_bound(&inner, &top));
+        assert!(!dip_run_to_bound(&top, &top) && !dip_run_to_bound(&inner, &inner));
+        let (simpler, dropped) = simplify(&p, top, true, &mut |_| {});
+        assert!(
+            dropped.iter().any(|(e, _)| *e == Effect::Stribeck),
+            "{dropped:?}"
+        );
+        assert!(!fs_at_bound(&simpler));
     }
 
     /// A base whose dip ran to `Fs = Fc` has it seeded again in the

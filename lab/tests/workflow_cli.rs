@@ -366,9 +366,9 @@ fn emps_real_data() {
         .iter()
         .map(|e| e.as_str().unwrap())
         .collect();
-    // Velocity strengthening (the data prefer n ≈ 0.64 to n = 1: a model
-    // fitted on the first half holds better on the second, see
-    // lab/README.md) and a level shift between the directions.
+    // Velocity strengthening (`viscous`; `nonlinear_viscous` in earlier
+    // versions, see lab/README.md) and a level shift between the
+    // directions.
     assert!(
         (added.contains(&"viscous") || added.contains(&"nonlinear_viscous"))
             && (added.contains(&"offset") || added.contains(&"asymmetry")),
@@ -380,6 +380,12 @@ fn emps_real_data() {
     assert!(delta > 0.31 && delta < 3.9, "delta {delta}");
     let vs = m["v_stribeck"].as_f64().unwrap();
     assert!(vs > 1e-6 && vs < 1.0, "v_stribeck {vs}");
+    let (fc, fs) = (m["fc"].as_f64().unwrap(), m["fs"].as_f64().unwrap());
+    let fs_max = (1.0 + breakaway_lab::fit::FS_EXCESS_MAX) * fc;
+    assert!(
+        fc > 0.0 && fs >= fc && fs < fc + 0.99 * (fs_max - fc),
+        "fc {fc} fs {fs}"
+    );
     if let Some(n) = m["effects"]["nonlinear_viscous"]["n"].as_f64() {
         assert!(n > 0.06 && n < 1.95 && (n - 1.0).abs() > 0.1, "n {n}");
     }
