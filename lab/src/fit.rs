@@ -158,7 +158,7 @@ fn quantisation_window(rec: &crate::data::Record) -> usize {
     let col_a: Vec<f64> = fast.iter().map(|&i| p.a[i]).collect();
     let col_s: Vec<f64> = fast.iter().map(|&i| p.filter_at(&sgn, i)).collect();
     let b: Vec<f64> = fast.iter().map(|&i| p.filter_at(&p.u_mid, i)).collect();
-    let Some(c) = crate::diagnose::lstsq(&[col_a, col_s], &b) else {
+    let Some(c) = crate::linalg::lstsq(&[col_a, col_s], &b) else {
         return AUTO_HALF_WIDTH;
     };
     let (mass, fc) = (c[0], c[1]);
@@ -1173,32 +1173,6 @@ fn train_indices(p: &Prepared) -> Vec<usize> {
     p.valid().filter(|&i| !p.held_out[i]).collect()
 }
 
-#[allow(clippy::needless_range_loop)] // dense Gaussian elimination
-fn solve(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Option<Vec<f64>> {
-    let n = b.len();
-    for c in 0..n {
-        let piv = (c..n).max_by(|&i, &j| a[i][c].abs().total_cmp(&a[j][c].abs()))?;
-        if a[piv][c].abs() < 1e-300 {
-            return None;
-        }
-        a.swap(c, piv);
-        b.swap(c, piv);
-        for r in c + 1..n {
-            let f = a[r][c] / a[c][c];
-            for k in c..n {
-                a[r][k] -= f * a[c][k];
-            }
-            b[r] -= f * b[c];
-        }
-    }
-    let mut x = vec![0.0; n];
-    for r in (0..n).rev() {
-        let s: f64 = (r + 1..n).map(|k| a[r][k] * x[k]).sum();
-        x[r] = (b[r] - s) / a[r][r];
-    }
-    x.iter().all(|v| v.is_finite()).then_some(x)
-}
-
 /// Analytic Jacobian column `∂r/∂θ` for parameters that enter linearly.
 fn analytic_column(p: &Prepared, m: &Model, par: Param, idx: &[usize]) -> Option<Vec<f64>> {
     let col = |s: &[f64]| -> Vec<f64> {
@@ -1342,7 +1316,7 @@ pub fn levenberg_marquardt(
             for (d, row) in aa.iter_mut().enumerate() {
                 row[d] += lambda * a[d][d].max(1e-12 * (1.0 + a[d][d]));
             }
-            let Some(step) = solve(aa, g.clone()) else {
+            let Some(step) = crate::linalg::solve_spd(&aa, &g) else {
                 lambda *= 10.0;
                 continue;
             };

@@ -32,6 +32,7 @@ pub mod data;
 pub mod diagnose;
 pub mod fit;
 pub mod format;
+pub mod linalg;
 pub mod lugre;
 pub mod progress;
 pub mod static_curve;

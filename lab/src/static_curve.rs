@@ -148,7 +148,7 @@ fn fit_direction(pts: &[Point], direction: i8) -> Option<Curve> {
     let solve = |v_s: f64, delta: f64| -> Option<Curve> {
         let e: Vec<f64> = s.iter().map(|x| (-(x / v_s).powf(delta)).exp()).collect();
         let c_fc: Vec<f64> = e.iter().map(|e| 1.0 - e).collect();
-        let c = crate::diagnose::lstsq(&[c_fc, e, s.clone()], &y)?;
+        let c = crate::linalg::lstsq(&[c_fc, e, s.clone()], &y)?;
         let (fc, fs, sigma) = (c[0], c[1], c[2]);
         if !(fc > 0.0 && fs >= fc && sigma >= 0.0) {
             return None;
@@ -196,7 +196,7 @@ fn fit_direction(pts: &[Point], direction: i8) -> Option<Curve> {
     }
     best.or_else(|| {
         // Without Stribeck: |τ| = Fc + σ·|v|.
-        let c = crate::diagnose::lstsq(&[vec![1.0; s.len()], s.clone()], &y)?;
+        let c = crate::linalg::lstsq(&[vec![1.0; s.len()], s.clone()], &y)?;
         let mut curve = Curve {
             direction,
             n: s.len(),

@@ -1,0 +1,257 @@
+//! The start: the base model of MODEL.md §2–§3 identified from the data, the
+//! error weights every later figure shares, the Stribeck shape's restarts,
+//! and the parts a record cannot identify (dropped and refitted).
+
+use super::*;
+
+/// The paper's Fig. 5 parameter set as a model (m = 1 kg, no effects): the
+/// placeholder start when no start model fits, and the tests' default.
+pub(crate) fn fig5_model() -> Model {
+    Model {
+        mass: 1.0,
+        fc: 1.0,
+        fs: 1.5,
+        v_stribeck: 1e-3,
+        delta: 1.0,
+        sigma: 0.0,
+        z_max: 1e-5,
+        epsilon: 0.0,
+        effects: Effects::default(),
+    }
+}
+
+/// The base model of MODEL.md §2–§3 (Coulomb + Stribeck + presliding,
+/// σ = 0) with its parameters identified from the data: mass and Fc by
+/// linear least squares on the faster half of the moving samples, then a
+/// grid over V and z_max, then Levenberg–Marquardt.
+pub fn initial_base(p: &Prepared, progress: &mut dyn FnMut(&str)) -> Model {
+    let mut speeds: Vec<f64> = p
+        .valid()
+        .map(|i| p.v[i].abs())
+        .filter(|s| *s > p.v_rest)
+        .collect();
+    let v_med = quantile(&mut speeds.clone(), 0.5);
+    let v_lo = quantile(&mut speeds, 0.2);
+    let fast: Vec<usize> = p
+        .valid()
+        .filter(|&i| !p.held_out[i] && p.v[i].abs() >= v_med)
+        .collect();
+    let sgn: Vec<f64> = p.v.iter().map(|v| v.signum()).collect();
+    let col_a: Vec<f64> = fast.iter().map(|&i| p.a[i]).collect();
+    let col_s: Vec<f64> = fast.iter().map(|&i| p.filter_at(&sgn, i)).collect();
+    let b: Vec<f64> = fast.iter().map(|&i| p.filter_at(&p.u_mid, i)).collect();
+    let (mut mass, mut fc) = match crate::linalg::lstsq(&[col_a, col_s], &b) {
+        Some(c) => (c[0], c[1]),
+        None => (f64::NAN, f64::NAN),
+    };
+    if !(fc.is_finite() && fc > 0.0) {
+        let mut u: Vec<f64> = fast.iter().map(|&i| p.u_mid[i].abs()).collect();
+        fc = quantile(&mut u, 0.5).max(1e-6);
+    }
+    if !(mass.is_finite() && mass > 0.0) {
+        mass = 1e-3 * fc / (v_med.max(1e-12) / 1.0);
+    }
+    let v_lo = if v_lo.is_finite() && v_lo > 0.0 {
+        v_lo
+    } else {
+        1e-3
+    };
+    let mut best: Option<(f64, Model)> = None;
+    let mut k = 0;
+    for vf in [0.3, 1.0, 3.0] {
+        for zf in [10.0, 40.0, 160.0, 640.0] {
+            k += 1;
+            progress(&format!("base model: grid {k}/12"));
+            let m = Model {
+                mass,
+                fc,
+                fs: 1.4 * fc,
+                v_stribeck: vf * v_lo,
+                delta: 1.0,
+                sigma: 0.0,
+                z_max: zf * p.resolution,
+                epsilon: 0.0,
+                effects: Effects::default(),
+            };
+            let c = fit::train_cost(p, &m);
+            if c.is_finite() && best.as_ref().is_none_or(|(b, _)| c < *b) {
+                best = Some((c, m));
+            }
+        }
+    }
+    let start = best.map_or_else(fig5_model, |(_, m)| m);
+    progress("base model: fitting");
+    let params = fit::params_of(&start);
+    fit::fit(p, &start, &params, &FitOptions::default(), &mut |_| {}).model
+}
+
+/// The base model identified from the data (a refit once with error
+/// weights), with the record's error weights set from it. Without a given
+/// model, `diagnose` and `validate` use these weights, so that every figure
+/// on one record compares like with like whatever model it is for.
+pub fn base_weights(p: &mut Prepared, progress: &mut dyn FnMut(&str)) -> Model {
+    let mut model = initial_base(p, progress);
+    let r0 = p.residual(&model);
+    p.set_error_weights(&model, &r0);
+    // The base model was identified with class weights only: refit it once
+    // with error weights and take the weights from that fit.
+    let params = fit::params_of(&model);
+    model = fit::fit(p, &model, &params, &FitOptions::default(), &mut |_| {}).model;
+    if degenerate(p, &model, Effect::Stribeck).is_some() {
+        // A local minimum with V → 0 or δ at a bound: restart the shape
+        // from the data's low speeds before calling Stribeck absent, and
+        // before the weights and the floor are taken from this model (a
+        // dip run to its bound, Fs = 11·Fc on a slow stick-slip record,
+        // makes every moving sample "explained by resolution" and the
+        // floor larger than the record's whole rms).
+        model = restart_dip(p, model, progress);
+    }
+    let r1 = p.residual(&model);
+    p.set_error_weights(&model, &r1);
+    model
+}
+
+/// The 20 % quantile of the moving speeds [m/s] (`None` without moving
+/// samples): where a Stribeck search starts.
+pub(super) fn low_speed(p: &Prepared) -> Option<f64> {
+    let mut speeds: Vec<f64> = p
+        .valid()
+        .map(|i| p.v[i].abs())
+        .filter(|s| *s > p.v_rest)
+        .collect();
+    let v = quantile(&mut speeds, 0.2);
+    (v.is_finite() && v > 0.0).then_some(v)
+}
+
+/// `m`, or the best of its shape [`restarts`] when that has the lower
+/// held-out RMS.
+pub(super) fn restart_dip(p: &Prepared, m: Model, show: &mut dyn FnMut(&str)) -> Model {
+    let starts = restarts(p, &m);
+    let sound = |c: &Model| degenerate(p, c, Effect::Stribeck).is_none();
+    let again = fit_multistart(p, &starts, &sound, &mut |s| {
+        show(&format!("restarting the Stribeck shape ({s})"))
+    });
+    if !dip_run_to_bound(&m, &again) && held_rms(p, &again).0 < held_rms(p, &m).0 {
+        again
+    } else {
+        m
+    }
+}
+
+/// `m` with its Stribeck dip seeded again: `Fs = 1.4·Fc`, δ = 2, `V` at
+/// 1 and 3 times the 20 % speed quantile (the base grid's middle).
+pub(super) fn dip_seeds(p: &Prepared, m: &Model) -> Vec<Model> {
+    let v_lo = low_speed(p).unwrap_or(1e-3);
+    [1.0, 3.0]
+        .into_iter()
+        .map(|vf| {
+            let mut c = m.clone();
+            c.fs = 1.4 * c.fc;
+            c.v_stribeck = vf * v_lo;
+            c.delta = 2.0;
+            c
+        })
+        .collect()
+}
+
+/// Restarts of the base shape: `V` at 0.3, 1 and 3 times the 20 % speed
+/// quantile, δ = 1 and 2, `Fs = 1.4·Fc`, the rest of `m` kept.
+pub(super) fn restarts(p: &Prepared, m: &Model) -> Vec<Model> {
+    let v_lo = low_speed(p).unwrap_or(1e-3);
+    let mut out = vec![m.clone()];
+    for vf in [0.3, 1.0, 3.0] {
+        for delta in [1.0, 2.0] {
+            let mut c = m.clone();
+            c.fs = 1.4 * c.fc;
+            c.v_stribeck = vf * v_lo;
+            c.delta = delta;
+            out.push(c);
+        }
+    }
+    out
+}
+
+/// Drops the parts of the base structure that the record does not
+/// support: `stribeck` or `presliding` when a parameter of theirs is
+/// degenerate ([`degenerate`]), or (with `by_rms`, once the missing
+/// effects are in) when the model refitted without them is within
+/// [`KEEP_GAIN`] of the held-out RMS with them. Returns the simpler
+/// model and what was dropped, with the reason.
+pub(super) fn simplify(
+    p: &Prepared,
+    mut m: Model,
+    by_rms: bool,
+    progress: &mut dyn FnMut(&str),
+) -> (Model, Vec<(Effect, String)>) {
+    let mut dropped = Vec::new();
+    // Stribeck once more after presliding: the refit without presliding
+    // can run the dip to its bound (EMPS: Fs from 6.9·Fc to 11·Fc).
+    for part in [Effect::Stribeck, Effect::Presliding, Effect::Stribeck] {
+        if dropped.iter().any(|(d, _)| *d == part) {
+            continue;
+        }
+        if !fit::has_effect(&m, part) || (!by_rms && degenerate(p, &m, part).is_none()) {
+            continue;
+        }
+        progress(&format!("is {part} identifiable?"));
+        let without = remove_effect(&m, part, p);
+        let params = fit::params_of(&without);
+        let refit = fit::fit(p, &without, &params, &FitOptions::default(), &mut |_| {}).model;
+        let (with_rms, without_rms) = (held_rms(p, &m).0, held_rms(p, &refit).0);
+        // A degenerate part is dropped unless the record clearly needs it
+        // (its refit without is worse by more than DEGENERATE_KEEP); a
+        // sound one only when it does not help by KEEP_GAIN.
+        let reason = match degenerate(p, &m, part) {
+            Some(why) if part == Effect::Stribeck && fs_at_bound(&m) => Some(why),
+            Some(why) if without_rms <= (1.0 + DEGENERATE_KEEP) * with_rms => Some(why),
+            Some(_) => None,
+            None => (without_rms <= (1.0 + KEEP_GAIN) * with_rms).then(|| {
+                format!(
+                    "held-out rms {:.4e} N without it, {:.4e} N with it",
+                    without_rms, with_rms
+                )
+            }),
+        };
+        if let Some(why) = reason {
+            dropped.push((part, why));
+            m = refit;
+        }
+    }
+    (m, dropped)
+}
+
+/// Without a Stribeck dip (`Fs = Fc`) `V` and `δ` have no effect; they are
+/// written as neutral, physical values (as [`remove_effect`] does), never
+/// as what a fit left (EMPS: `V = 1.7e-22`, δ at its bound).
+pub(super) fn tidy(p: &Prepared, m: Model) -> Model {
+    if fit::has_effect(&m, Effect::Stribeck) {
+        m
+    } else {
+        remove_effect(&m, Effect::Stribeck, p)
+    }
+}
+
+/// `m` without the catalogue effect `effect`.
+pub(super) fn remove_effect(m: &Model, effect: Effect, p: &Prepared) -> Model {
+    let mut c = m.clone();
+    let e = &mut c.effects;
+    match effect {
+        Effect::Viscous => c.sigma = 0.0,
+        Effect::Offset => e.offset = None,
+        Effect::Asymmetry => e.asymmetry = None,
+        Effect::PositionRipple => e.position_ripple = None,
+        Effect::DwellStiction => e.dwell_stiction = None,
+        Effect::FrictionalLag => e.frictional_lag = None,
+        Effect::Drift => e.drift = None,
+        Effect::NonlinearViscous => e.nonlinear_viscous = None,
+        Effect::Stribeck => {
+            // Fs = Fc marks the absence (MODEL.md §7); V and δ then have no
+            // effect and are written as neutral, physical values.
+            c.fs = c.fc;
+            c.v_stribeck = low_speed(p).unwrap_or(1e-3);
+            c.delta = 1.0;
+        }
+        Effect::Presliding => c.z_max = 0.0,
+    }
+    c
+}

@@ -1,0 +1,412 @@
+//! Candidates: the starting points of each catalogue effect (regressions of
+//! the residual, scans, seeded dips) and the multistart fit that refines
+//! them.
+
+use super::*;
+
+pub(super) fn quick() -> FitOptions {
+    FitOptions {
+        max_iter: 12,
+        rel_tol: 1e-4,
+    }
+}
+
+/// How many of the best short fits [`fit_multistart`] fits fully before
+/// it gives up on finding one that `sound` accepts.
+pub(super) const FULL_FITS: usize = 3;
+
+/// The best of several starting models after a short fit, then fitted
+/// fully; when the full fit ends where `sound` rejects it (a parameter at
+/// a bound), the next-best short fit is tried, up to [`FULL_FITS`]: a start
+/// that runs to a bound on the training blocks must not hide one that
+/// converges inside the range.
+pub(super) fn fit_multistart(
+    p: &Prepared,
+    starts: &[Model],
+    sound: &dyn Fn(&Model) -> bool,
+    progress: &mut dyn FnMut(&str),
+) -> Model {
+    if let [only] = starts {
+        progress("start 1/1");
+        let params = fit::params_of(only);
+        return fit::fit(p, only, &params, &FitOptions::default(), &mut |_| {}).model;
+    }
+    let mut short: Vec<(f64, Model)> = Vec::new();
+    for (i, s) in starts.iter().enumerate() {
+        progress(&format!("start {}/{}", i + 1, starts.len()));
+        let params = fit::params_of(s);
+        let r = fit::fit(p, s, &params, &quick(), &mut |_| {});
+        short.push((r.cost, r.model));
+    }
+    short.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut first = None;
+    for (_, m) in short.into_iter().take(FULL_FITS) {
+        let params = fit::params_of(&m);
+        let full = fit::fit(p, &m, &params, &FitOptions::default(), &mut |_| {}).model;
+        if sound(&full) {
+            return full;
+        }
+        first.get_or_insert(full);
+    }
+    first.unwrap_or_else(|| starts.first().cloned().unwrap_or_else(fig5_model))
+}
+
+pub(super) fn quantile(v: &mut [f64], q: f64) -> f64 {
+    if v.is_empty() {
+        return f64::NAN;
+    }
+    v.sort_by(f64::total_cmp);
+    v[((v.len() - 1) as f64 * q).round() as usize]
+}
+
+/// Dry friction `H` along the motion, as the residual sees it (for
+/// regressions of the residual).
+pub(super) fn dry_force(p: &Prepared, m: &Model) -> Vec<f64> {
+    let mut h = vec![0.0; p.len()];
+    p.walk(m, |i, fr| h[i] = fr.dry());
+    h
+}
+
+/// One-parameter regression of `r` on the filtered series `s` (training
+/// samples).
+pub(super) fn regress(p: &Prepared, r: &[f64], s: &[f64]) -> f64 {
+    let (mut sx, mut xx) = (0.0, 0.0);
+    for i in p.valid().filter(|&i| !p.held_out[i]) {
+        let f = p.filter_at(s, i);
+        sx += p.weight[i] * f * r[i];
+        xx += p.weight[i] * f * f;
+    }
+    if xx > 0.0 {
+        sx / xx
+    } else {
+        0.0
+    }
+}
+
+/// Two-parameter regression of `r` on the filtered `sgn(v̂)` and `s`
+/// (training samples): `(ΔF, c)` with `r ≈ ΔF·sgn(v̂) + c·s`. A velocity
+/// strengthening that the start model lacks is partly taken up by its
+/// Coulomb level (a concave one above all); regressing on both gives the
+/// candidate's start without that bias.
+pub(super) fn regress_with_level(p: &Prepared, r: &[f64], s: &[f64]) -> (f64, f64) {
+    let sgn: Vec<f64> = p.v.iter().map(|v| v.signum()).collect();
+    let (mut aa, mut ab, mut bb, mut ar, mut br) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    for i in p.valid().filter(|&i| !p.held_out[i]) {
+        let (a, b, w) = (p.filter_at(&sgn, i), p.filter_at(s, i), p.weight[i]);
+        aa += w * a * a;
+        ab += w * a * b;
+        bb += w * b * b;
+        ar += w * a * r[i];
+        br += w * b * r[i];
+    }
+    let det = aa * bb - ab * ab;
+    if det > 1e-12 * aa * bb && det > 0.0 {
+        ((ar * bb - br * ab) / det, (br * aa - ar * ab) / det)
+    } else {
+        (0.0, regress(p, r, s))
+    }
+}
+
+/// The best wavelength of a spatial periodogram of `r` over moving samples:
+/// `(λ, A·cos φ, A·sin φ, explained fraction)`.
+pub fn ripple_scan(p: &Prepared, r: &[f64], filtered: bool) -> (f64, f64, f64, f64) {
+    let idx: Vec<usize> = p
+        .valid()
+        .filter(|&i| !p.held_out[i] && p.v[i].abs() > p.v_rest)
+        .collect();
+    if idx.len() < 20 {
+        return (1.0, 0.0, 0.0, 0.0);
+    }
+    let (lo, hi) = idx
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &i| {
+            (a.min(p.x[i]), b.max(p.x[i]))
+        });
+    let span = (hi - lo).max(1e-12);
+    let total: f64 = idx.iter().map(|&i| p.weight[i] * r[i] * r[i]).sum();
+    let lam_min = (50.0 * p.resolution).max(span / 2000.0);
+    let lam_max = span / 3.0;
+    let mut best = (1.0, 0.0, 0.0, 0.0);
+    if lam_max <= lam_min || total <= 0.0 {
+        return best;
+    }
+    let steps = 300;
+    for s in 0..=steps {
+        let lam = lam_min * (lam_max / lam_min).powf(s as f64 / steps as f64);
+        let k = 2.0 * PI / lam;
+        let (mut ss, mut sc, mut cc, mut rs, mut rc) = (0.0, 0.0, 0.0, 0.0, 0.0);
+        let sin: Vec<f64>;
+        let cos: Vec<f64>;
+        if filtered {
+            let raw_sin: Vec<f64> = p.x.iter().map(|x| (k * x).sin()).collect();
+            let raw_cos: Vec<f64> = p.x.iter().map(|x| (k * x).cos()).collect();
+            sin = p.filter_all(&raw_sin);
+            cos = p.filter_all(&raw_cos);
+        } else {
+            sin = Vec::new();
+            cos = Vec::new();
+        }
+        for &i in &idx {
+            let (a, b) = if filtered {
+                (sin[i], cos[i])
+            } else {
+                ((k * p.x[i]).sin(), (k * p.x[i]).cos())
+            };
+            let w = p.weight[i];
+            ss += w * a * a;
+            sc += w * a * b;
+            cc += w * b * b;
+            rs += w * r[i] * a;
+            rc += w * r[i] * b;
+        }
+        let det = ss * cc - sc * sc;
+        if det <= 0.0 {
+            continue;
+        }
+        let c1 = (rs * cc - rc * sc) / det;
+        let c2 = (rc * ss - rs * sc) / det;
+        let explained = (c1 * rs + c2 * rc) / total;
+        if explained > best.3 {
+            best = (lam, c1, c2, explained);
+        }
+    }
+    best
+}
+
+/// Moves Fc and Fs together by `level` [N], keeping Fc at least a tenth
+/// of its value.
+pub(super) fn shift_levels(m: &mut Model, level: f64) {
+    let level = level.max(-0.9 * m.fc);
+    m.fc += level;
+    m.fs += level;
+}
+
+/// Starting models for adding `effect` to `m` (refitted from each).
+pub(super) fn candidate_starts(p: &Prepared, m: &Model, effect: Effect, r: &[f64]) -> Vec<Model> {
+    let mut out = Vec::new();
+    let t_span = (p.t[p.len() - 1] - p.t[0]).max(1e-9);
+    let with = |f: &dyn Fn(&mut Model)| {
+        let mut c = m.clone();
+        f(&mut c);
+        c
+    };
+    match effect {
+        Effect::Viscous => {
+            let v_max = p.v.iter().fold(1e-12f64, |a, v| a.max(v.abs()));
+            let s = regress(p, r, &p.v).max(1e-3 * m.fc / v_max);
+            out.push(with(&|c| c.sigma = s));
+            let (level, s) = regress_with_level(p, r, &p.v);
+            out.push(with(&|c| {
+                c.sigma = s.max(1e-3 * m.fc / v_max);
+                shift_levels(c, level);
+            }));
+        }
+        Effect::NonlinearViscous => {
+            let v_max = p.v.iter().fold(1e-12f64, |a, v| a.max(v.abs()));
+            for n in [0.3, 0.6, 1.5, 2.0] {
+                let s: Vec<f64> = p.v.iter().map(|v| v.signum() * v.abs().powf(n)).collect();
+                let least = 1e-3 * m.fc / v_max.powf(n);
+                let sigma_n = regress(p, r, &s).max(least);
+                out.push(with(&|c| {
+                    c.effects.nonlinear_viscous = Some(NonlinearViscous { sigma_n, n })
+                }));
+                let (level, sigma_n) = regress_with_level(p, r, &s);
+                let sigma_n = sigma_n.max(least);
+                out.push(with(&|c| {
+                    c.effects.nonlinear_viscous = Some(NonlinearViscous { sigma_n, n });
+                    shift_levels(c, level);
+                }));
+            }
+        }
+        Effect::Offset => {
+            let one = vec![1.0; p.len()];
+            let f0 = regress(p, r, &one);
+            out.push(with(&|c| c.effects.offset = Some(Offset { f0 })));
+        }
+        Effect::Asymmetry => {
+            let h = dry_force(p, m);
+            let a = (regress(p, r, &h)).clamp(-0.5, 0.5);
+            for a0 in [a, 0.1, -0.1] {
+                out.push(with(&|c| c.effects.asymmetry = Some(Asymmetry { a: a0 })));
+            }
+        }
+        Effect::PositionRipple => {
+            let (lam, c1, c2, _) = ripple_scan(p, r, true);
+            out.push(with(&|c| {
+                c.effects.position_ripple = Some(PositionRipple {
+                    amplitude: c1.hypot(c2),
+                    wavelength: lam,
+                    phase: c2.atan2(c1),
+                })
+            }));
+        }
+        Effect::DwellStiction => out.extend(dwell_starts(p, m, r)),
+        Effect::FrictionalLag => {
+            // Lag and the Stribeck shape trade off (a base model fitted
+            // without lag bends V, δ to mimic it), so the shape restarts too.
+            // It may even have dropped the Stribeck dip (V → 0): restart
+            // it from the data's low speeds as the base model's grid does.
+            let v_lo = low_speed(p).unwrap_or(m.v_stribeck);
+            for tau_l in [0.01, 0.03, 0.1] {
+                out.push(with(&|c| {
+                    c.effects.frictional_lag = Some(FrictionalLag { tau_l })
+                }));
+                if fit::has_effect(m, Effect::Stribeck) {
+                    out.push(with(&|c| {
+                        c.effects.frictional_lag = Some(FrictionalLag { tau_l });
+                        c.delta = 2.0;
+                        c.v_stribeck = v_lo;
+                        c.fs = c.fs.clamp(1.1 * c.fc, 2.0 * c.fc);
+                    }));
+                }
+            }
+        }
+        Effect::Drift => {
+            let h = dry_force(p, m);
+            let ht: Vec<f64> = h.iter().zip(&p.t).map(|(h, t)| h * (t - p.t[0])).collect();
+            let beta = regress(p, r, &ht).clamp(-1.0 / t_span, 1.0 / t_span);
+            out.push(with(&|c| c.effects.drift = Some(Drift { beta })));
+        }
+        Effect::Stribeck => {
+            for vf in [0.3, 1.0, 3.0] {
+                out.push(with(&|c| {
+                    c.fs = 1.3 * c.fc;
+                    c.v_stribeck = m.v_stribeck * vf;
+                }));
+            }
+        }
+        Effect::Presliding => {
+            for zf in [10.0, 40.0, 160.0, 640.0] {
+                out.push(with(&|c| c.z_max = zf * p.resolution));
+            }
+        }
+    }
+    // A dip lost while the effect was missing (a symmetric dip cannot
+    // follow an offset or an asymmetry, so the base fit ran it to Fs = Fc
+    // or to a bound) does not come back in a local fit, and without it
+    // `offset` and `asymmetry` are the same constant shift: the first
+    // start is also tried with the dip seeded again, every start for the
+    // two look-alikes, which the dip tells apart.
+    if !matches!(
+        effect,
+        Effect::Stribeck | Effect::Presliding | Effect::FrictionalLag
+    ) && dip_lost(p, m)
+    {
+        let take = if look_alike(effect).is_some() {
+            out.len()
+        } else {
+            1
+        };
+        let seeded: Vec<Model> = out
+            .iter()
+            .take(take)
+            .flat_map(|c| dip_seeds(p, c))
+            .collect();
+        out.extend(seeded);
+    }
+    // A base model that used δ at the edge of its range to mimic the
+    // missing effect is also restarted from δ = 2.
+    if m.delta > 3.0 || m.delta < 0.5 {
+        let again: Vec<Model> = out
+            .iter()
+            .map(|c| {
+                let mut c = c.clone();
+                c.delta = 2.0;
+                c
+            })
+            .collect();
+        out.extend(again);
+    }
+    out.retain(|c| c.validate().is_ok());
+    out
+}
+
+/// Starting models for `dwell_stiction`: a grid over the rest threshold
+/// `v_rest` and γ, each with ΔFs and the stiction level Fs from a linear
+/// regression of the residual on their signatures (the break-away peaks
+/// after rests of different length: Fs moves all of them, ΔFs in
+/// proportion to `t_d/(t_d + γ)`); the best grid points by the cost drop.
+///
+/// `v_rest` is not fitted by least squares (t_d jumps with it). The grid
+/// holds the encoder's rest (no count change for 50 samples, the 1/T
+/// velocity of [`crate::fit`]) and fractions of the Stribeck velocity,
+/// which also count the slow presliding creep before a break-away as rest.
+pub(super) fn dwell_starts(p: &Prepared, m: &Model, r: &[f64]) -> Vec<Model> {
+    let count_rate = p.resolution / p.dt;
+    let mut v_rests = vec![0.02 * count_rate];
+    for f in [0.02, 0.05, 0.15] {
+        let v = f * m.v_stribeck;
+        if v > 0.03 * count_rate {
+            v_rests.push(v);
+        }
+    }
+    let stribeck = fit::has_effect(m, Effect::Stribeck);
+    let train: Vec<usize> = p.valid().filter(|&i| !p.held_out[i]).collect();
+    let f0 = p.friction(m);
+    let h = 0.1 * m.fc;
+    let mut m_fs = m.clone();
+    m_fs.fs += h;
+    let d_fs: Vec<f64> = p
+        .friction(&m_fs)
+        .iter()
+        .zip(&f0)
+        .map(|(a, b)| (a - b) / h)
+        .collect();
+    let col_fs: Vec<f64> = train
+        .iter()
+        .map(|&i| p.weight[i].sqrt() * p.filter_at(&d_fs, i))
+        .collect();
+    let b: Vec<f64> = train.iter().map(|&i| p.weight[i].sqrt() * r[i]).collect();
+    let mut scored: Vec<(f64, Model)> = Vec::new();
+    for &v_rest in &v_rests {
+        for gamma in [0.1, 0.3, 1.0] {
+            let mut c = m.clone();
+            c.effects.dwell_stiction = Some(DwellStiction {
+                delta_fs: h,
+                gamma,
+                v_rest,
+            });
+            let d_dw: Vec<f64> = p
+                .friction(&c)
+                .iter()
+                .zip(&f0)
+                .map(|(a, b)| (a - b) / h)
+                .collect();
+            let col_dw: Vec<f64> = train
+                .iter()
+                .map(|&i| p.weight[i].sqrt() * p.filter_at(&d_dw, i))
+                .collect();
+            // r = W*(u − F) − m·a: a friction change dF lowers r by W*dF.
+            let cols = if stribeck {
+                vec![col_dw.clone(), col_fs.clone()]
+            } else {
+                vec![col_dw.clone()]
+            };
+            let Some(coef) = crate::linalg::lstsq(&cols, &b) else {
+                continue;
+            };
+            let (dfs, dfs_level) = (coef[0], coef.get(1).copied().unwrap_or(0.0));
+            let gain: f64 = col_dw
+                .iter()
+                .zip(&col_fs)
+                .zip(&b)
+                .map(|((x, y), b)| {
+                    let e = b - dfs * x - dfs_level * y;
+                    b * b - e * e
+                })
+                .sum();
+            let mut c = m.clone();
+            if stribeck {
+                c.fs = (m.fs + dfs_level).max(m.fc * 1.001);
+            }
+            c.effects.dwell_stiction = Some(DwellStiction {
+                delta_fs: dfs.clamp(0.02 * m.fc, 2.0 * m.fc),
+                gamma,
+                v_rest,
+            });
+            scored.push((if dfs > 0.0 { gain } else { f64::MIN }, c));
+        }
+    }
+    scored.sort_by(|a, b| b.0.total_cmp(&a.0));
+    scored.into_iter().take(4).map(|(_, c)| c).collect()
+}

@@ -1,0 +1,605 @@
+//! The discrepancy workflow (`breakaway-lab diagnose`): where the model and
+//! the measurement disagree, which effect of MODEL.md §5 is missing, and how
+//! much adding it shrinks the gap. One stage per file:
+//!
+//! 1. **Residual** ([`crate::fit`]): the force residual along the measured
+//!    motion (local by construction, MODEL.md §8), for the current model
+//!    refitted on the training blocks; the start (`base.rs`): the base model
+//!    identified from the data and the error weights every figure shares.
+//! 2. **Localise** (`localise.rs`): every sample gets a regime (rest,
+//!    presliding after a turning point, break-away after a rest, low speed,
+//!    sliding by speed band; each direction); the report lists where the
+//!    residual concentrates (regimes and time windows) and how much of it
+//!    each signal explains (binned means against velocity, direction,
+//!    position — the best line of a spatial periodogram —, time, time since
+//!    the last turning point, rest time before motion).
+//! 3. **Candidates** (`candidates.rs`): each catalogue effect the model
+//!    lacks is added in turn and refitted (Levenberg–Marquardt from a few
+//!    starting points), scored on the held-out blocks by
+//!    `BIC = n·ln(mse) + p·ln(n)`.
+//! 4. **Selection** (`selection.rs`): the best candidate is accepted only if
+//!    its BIC is lower **and** it lowers the held-out RMS by at least
+//!    [`ACCEPT_GAIN`] above the floor (see there for why both) **and**
+//!    removes [`MIN_GAP_SHARE`] of the gap; repeated until none is, then
+//!    a backward and a swap pass ([`diagnose`]).
+//! 5. **Report** (`report.rs`): JSON, text and the model in MODEL.md §7
+//!    names.
+
+use crate::data::Record;
+use crate::fit::{self, FitOptions, Param, Prepared};
+use crate::progress::Progress;
+use crate::reference::{
+    Asymmetry, Drift, DwellStiction, Effect, Effects, Friction, FrictionalLag, Model,
+    NonlinearViscous, Offset, PositionRipple,
+};
+use std::f64::consts::PI;
+
+mod base;
+mod candidates;
+mod localise;
+mod report;
+mod selection;
+
+pub use base::*;
+pub use candidates::*;
+pub use localise::*;
+pub use report::*;
+pub use selection::*;
+
+/// Most effects added.
+pub const MAX_ROUNDS: usize = 4;
+
+/// Options of the workflow.
+#[derive(Clone, Debug)]
+pub struct Options {
+    /// Savitzky–Golay half-widths.
+    pub window: fit::Window,
+    /// Candidate effects considered; all when empty.
+    pub candidates: Vec<Effect>,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            window: fit::Window::both(fit::DEFAULT_HALF_WIDTH),
+            candidates: Vec::new(),
+        }
+    }
+}
+
+/// A candidate tried in one round.
+#[derive(Clone, Debug)]
+pub struct Candidate {
+    /// The effect.
+    pub effect: Effect,
+    /// Weighted held-out RMS after adding and refitting [N] (noise and
+    /// resolution included; the same weights for every candidate).
+    pub rms: f64,
+    /// BIC change on the held-out blocks (negative is better).
+    pub score: f64,
+    /// The fitted model.
+    pub model: Model,
+}
+
+/// One accepted effect.
+#[derive(Clone, Debug)]
+pub struct Step {
+    /// The effect.
+    pub effect: Effect,
+    /// Model error before [N] (held-out, above the floor).
+    pub rms_before: f64,
+    /// Model error after [N].
+    pub rms_after: f64,
+    /// BIC change (negative).
+    pub score: f64,
+    /// The model after the step.
+    pub model: Model,
+    /// The signal that localises this effect, and the fraction of the
+    /// residual (before the step) it explains.
+    pub signal: (String, f64),
+    /// Every candidate of the round, best first.
+    pub candidates: Vec<Candidate>,
+    /// The round's candidates whose fit ran the Stribeck dip to its bound
+    /// (not a finding; still runner-ups for the swap pass, from the base
+    /// without this step's effect), best first.
+    pub held_back: Vec<Candidate>,
+    /// Residual before the step (all samples).
+    pub residual_before: Vec<f64>,
+}
+
+/// A stretch where the residual concentrates.
+#[derive(Clone, Debug)]
+pub struct Region {
+    /// Regime label.
+    pub regime: String,
+    /// Start [s].
+    pub t_start: f64,
+    /// End [s].
+    pub t_end: f64,
+    /// RMS of the residual there [N].
+    pub rms: f64,
+}
+
+/// Per-regime statistics.
+#[derive(Clone, Debug)]
+pub struct RegimeStat {
+    /// Regime label.
+    pub regime: String,
+    /// Samples.
+    pub n: usize,
+    /// RMS of the residual [N].
+    pub rms: f64,
+}
+
+/// The result of [`diagnose`].
+#[derive(Clone, Debug)]
+pub struct Report {
+    /// Samples, interval, resolution.
+    pub n: usize,
+    /// Half-width of the force kernel (samples).
+    pub half_width: usize,
+    /// Half-width of the velocity estimate (samples).
+    pub velocity_half_width: usize,
+    /// Median sampling interval [s].
+    pub dt: f64,
+    /// Position resolution [m].
+    pub resolution: f64,
+    /// Start model as given (`None` without `--model`) and its held-out RMS.
+    pub given: Option<f64>,
+    /// Model before the first step (refitted start).
+    pub start: Model,
+    /// Model error of `start` on the held-out blocks [N]:
+    /// [`fit::model_error`] of its weighted RMS and [`Report::floor`].
+    pub rms_before: f64,
+    /// Model error of the final model on the held-out blocks [N].
+    pub rms_after: f64,
+    /// Weighted held-out RMS of `start` [N] (noise and resolution included).
+    pub raw_before: f64,
+    /// Weighted held-out RMS of the final model [N].
+    pub raw_after: f64,
+    /// The part of a weighted held-out RMS that noise and resolution explain
+    /// [N] ([`Prepared::floor`]): what a correct model would show.
+    pub floor: f64,
+    /// Force-noise level [N] of the residual ([`Prepared::sigma0`]).
+    pub sigma0: f64,
+    /// Still samples (position within one count over the window; the friction is
+    /// the measured force there, not a prediction) and all valid samples.
+    pub still: (usize, usize),
+    /// Parts of the start structure dropped as not identifiable, with the
+    /// reason (e.g. `stribeck`: V at its bound).
+    pub dropped: Vec<(Effect, String)>,
+    /// Accepted steps.
+    pub steps: Vec<Step>,
+    /// The last round's candidates (none accepted).
+    pub last_round: Vec<Candidate>,
+    /// Effects dropped by the backward pass: (effect, held-out model error
+    /// without it, with it) [N].
+    pub pruned: Vec<(Effect, f64, f64)>,
+    /// Effects replaced by a runner-up in the swap pass: (taken, replaced
+    /// by, model error before, after) [N].
+    pub swapped: Vec<(Effect, Effect, f64, f64)>,
+    /// Where the residual concentrates before the first step.
+    pub regions: Vec<Region>,
+    /// RMS per regime before the first step.
+    pub regimes: Vec<RegimeStat>,
+    /// Fraction of the residual each signal explains (before the first step).
+    pub signals: Vec<(String, f64)>,
+    /// The final model.
+    pub model: Model,
+    /// Residual of the final model.
+    pub residual_after: Vec<f64>,
+    /// Residual of the start model.
+    pub residual_before: Vec<f64>,
+    /// Times [s].
+    pub t: Vec<f64>,
+    /// Signals per sample, by name (for plots).
+    pub signal_series: Vec<(String, Vec<f64>)>,
+}
+
+/// What the residual is, for reports.
+pub const METRIC: &str = "model error [N]: sqrt(rms^2 - floor^2), rms the held-out weighted RMS of the force residual along the measured motion, r = W*(u - F(t, x, v_hat)) - m*a_hat (Savitzky-Golay v_hat, a_hat; W the matching force kernel), floor the part that force noise and encoder resolution explain; still samples (position within one count over the window) are the measured force, re-anchor the presliding memory and carry no weight; weights (speed/direction class x noise/resolution variance) fixed from the start model; time blocks 2, 5, 8 of 10 held out";
+
+fn held_rms(p: &Prepared, m: &Model) -> (f64, Vec<f64>) {
+    let r = p.residual(m);
+    (p.rms(&r, Some(true)), r)
+}
+
+fn bic(p: &Prepared, rms: f64, n_params: usize) -> f64 {
+    let n = p.count(true).max(1) as f64;
+    n * (rms * rms).max(1e-300).ln() + n_params as f64 * n.ln()
+}
+
+/// Runs the workflow on `rec` from `start` (`None`: the base model
+/// identified from the data).
+pub fn diagnose(
+    rec: &Record,
+    start: Option<&Model>,
+    opts: &Options,
+    progress: &mut Progress,
+) -> Report {
+    let mut p = Prepared::with_window(rec, opts.window);
+    let mut show = |s: &str| progress.show(s);
+    // Error-in-variables weights from the start model, fixed from here on:
+    // every figure compared below uses them.
+    let mut model = match start {
+        Some(m) => {
+            let r0 = p.residual(m);
+            p.set_error_weights(m, &r0);
+            m.clone()
+        }
+        None => base_weights(&mut p, &mut show),
+    };
+    let floor = p.floor(Some(true));
+    let given = start.map(|m| fit::model_error(held_rms(&p, m).0, floor));
+    show("refitting with error weights");
+    let params = fit::params_of(&model);
+    model = fit::fit(&p, &model, &params, &FitOptions::default(), &mut |_| {}).model;
+    // A degenerate base part is kept while effects are missing (they can
+    // bend the base fit); the final model is simplified below.
+    let mut dropped = Vec::new();
+    let start_model = model.clone();
+    let (mut rms, mut r) = held_rms(&p, &model);
+    let raw_before = rms;
+    let residual_before = r.clone();
+    let labels = regimes(&p, &model);
+    let regimes_before = regime_stats(&p, &r, &labels);
+    let regions = regions_of(&p, &r, &labels, 8);
+    let series = signal_series(&p, &model);
+    let signals = localise_signals(&p, &r, &series);
+    let allowed = |e: Effect| opts.candidates.is_empty() || opts.candidates.contains(&e);
+    let mut steps = Vec::new();
+    let mut last_round = Vec::new();
+    // Whether a round restarted the Stribeck shape after a step: the
+    // step's choice among look-alikes was then made on another base.
+    let mut reshaped = false;
+    for round in 0..MAX_ROUNDS {
+        let missing: Vec<Effect> = Effect::ALL
+            .into_iter()
+            .filter(|&e| !fit::has_effect(&model, e) && allowed(e))
+            .filter(|e| !dropped.iter().any(|(d, _)| d == e))
+            .collect();
+        if round > 0 && dip_lost(&p, &model) {
+            // The candidates below may seed the dip again (see
+            // `candidate_starts`): what the dip alone gains is taken here
+            // first, unnamed, so that no effect is credited with it.
+            let again = restart_dip(&p, model.clone(), &mut show);
+            if again != model {
+                reshaped = true;
+                model = again;
+                (rms, r) = held_rms(&p, &model);
+            }
+        }
+        let (mut cands, mut held_back) = (Vec::new(), Vec::new());
+        let n_cur = fit::params_of(&model).len();
+        let bic_cur = bic(&p, rms, n_cur);
+        for (ci, &effect) in missing.iter().enumerate() {
+            let starts = candidate_starts(&p, &model, effect, &r);
+            if starts.is_empty() {
+                continue;
+            }
+            let label = format!(
+                "round {}: candidate {}/{} {effect}",
+                round + 1,
+                ci + 1,
+                missing.len()
+            );
+            let sound =
+                |m: &Model| degenerate(&p, m, effect).is_none() && !dip_run_to_bound(&model, m);
+            let fitted = fit_multistart(&p, &starts, &sound, &mut |s| {
+                show(&format!("{label} ({s})"))
+            });
+            if !fit::has_effect(&fitted, effect) {
+                continue;
+            }
+            // Dwell *time* stiction must make the break-away depend on the
+            // rest length; a γ far below every rest of the record only
+            // separates "after a rest" from "after a reversal" (the
+            // look-alike of MODEL.md §4's rate dependence).
+            if effect == Effect::DwellStiction && dwell_spread(&p, &fitted) < MIN_DWELL_SPREAD {
+                continue;
+            }
+            // A fit that ran to a bound of its parameters has not found
+            // the effect (or has found a simpler structure).
+            if degenerate(&p, &fitted, effect).is_some() {
+                continue;
+            }
+            if visibility(&p, &fitted, effect) < MIN_VISIBILITY {
+                continue;
+            }
+            let (c_rms, _) = held_rms(&p, &fitted);
+            let score = bic(&p, c_rms, fit::params_of(&fitted).len()) - bic_cur;
+            let candidate = Candidate {
+                effect,
+                rms: c_rms,
+                score,
+                model: fitted,
+            };
+            if dip_run_to_bound(&model, &candidate.model) {
+                held_back.push(candidate);
+            } else {
+                cands.push(candidate);
+            }
+        }
+        cands.sort_by(|a, b| a.score.total_cmp(&b.score));
+        held_back.sort_by(|a, b| a.score.total_cmp(&b.score));
+        prefer_nested(&mut cands, floor);
+        let accept = cands
+            .first()
+            .is_some_and(|c| c.score < 0.0 && enough_gain(c.effect, rms, c.rms, floor));
+        if !accept {
+            last_round = cands;
+            break;
+        }
+        let best = cands[0].clone();
+        let sig_name = signal_of(best.effect);
+        let sig = localise_signals(&p, &r, &signal_series(&p, &model))
+            .into_iter()
+            .find(|(n, _)| n == sig_name)
+            .unwrap_or((sig_name.to_string(), 0.0));
+        let (new_rms, new_r) = held_rms(&p, &best.model);
+        steps.push(Step {
+            effect: best.effect,
+            rms_before: fit::model_error(rms, floor),
+            rms_after: fit::model_error(new_rms, floor),
+            score: best.score,
+            model: best.model.clone(),
+            signal: sig,
+            candidates: cands,
+            held_back,
+            residual_before: r.clone(),
+        });
+        model = best.model;
+        rms = new_rms;
+        r = new_r;
+    }
+    // Backward pass: greedy forward selection can take a look-alike first
+    // (asymmetry for offset) and keep it after the real effect joined.
+    // An added effect is dropped when the model refitted without it is
+    // held-out within its required gain of the final one.
+    let mut pruned = Vec::new();
+    if !steps.is_empty() {
+        let mut k = 0;
+        while k < steps.len() {
+            let effect = steps[k].effect;
+            show(&format!("backward check: {effect}"));
+            let without = remove_effect(&model, effect, &p);
+            let params = fit::params_of(&without);
+            let refit = fit::fit(&p, &without, &params, &FitOptions::default(), &mut |_| {}).model;
+            let (w_rms, w_r) = held_rms(&p, &refit);
+            // The share of the gap is a forward rule only: the refit
+            // without an effect starts from the final model and often ends
+            // below the step's own start, so a real effect (a ripple of 73×
+            // the noise) would cost less than a quarter of that gap.
+            if gain_above_floor(w_rms, rms, floor) < required_gain(effect) {
+                pruned.push((
+                    effect,
+                    fit::model_error(w_rms, floor),
+                    fit::model_error(rms, floor),
+                ));
+                steps.remove(k);
+                model = refit;
+                rms = w_rms;
+                r = w_r;
+            } else {
+                k += 1;
+            }
+        }
+    }
+    // Swap pass: an effect taken while another was still missing may be
+    // the look-alike of a runner-up of its round (nonlinear_viscous for
+    // viscous beside drift, asymmetry for offset). With the others in
+    // place, each added effect is replaced by the runner-ups of its round
+    // (the two next best) when one gives a lower held-out BIC. So too for
+    // a single look-alike, and after a restarted Stribeck shape: `offset`
+    // and `asymmetry` tie exactly on a base without a dip and differ once
+    // it is back, and a step that brought the dip back with one of them
+    // fitted the other from the old base.
+    let mut swapped = Vec::new();
+    if steps.len() > 1 || reshaped || steps.iter().any(|s| look_alike(s.effect).is_some()) {
+        for step in steps.iter_mut() {
+            let effect = step.effect;
+            let mut runner_ups: Vec<&Candidate> = step
+                .candidates
+                .iter()
+                .skip(1)
+                .chain(&step.held_back)
+                .collect();
+            runner_ups.sort_by(|a, b| a.score.total_cmp(&b.score));
+            let alts: Vec<Effect> = runner_ups
+                .iter()
+                .take(2)
+                .map(|c| c.effect)
+                .filter(|&c| !fit::has_effect(&model, c))
+                .collect();
+            if alts.is_empty() {
+                continue;
+            }
+            show(&format!("swap check: {effect}"));
+            let without = remove_effect(&model, effect, &p);
+            let params = fit::params_of(&without);
+            let base = fit::fit(&p, &without, &params, &FitOptions::default(), &mut |_| {}).model;
+            let base_r = p.residual(&base);
+            let bic_cur = bic(&p, rms, fit::params_of(&model).len());
+            let mut best: Option<(f64, Effect, Model)> = None;
+            for &alt in &alts {
+                let starts = candidate_starts(&p, &base, alt, &base_r);
+                if starts.is_empty() {
+                    continue;
+                }
+                let sound =
+                    |m: &Model| degenerate(&p, m, alt).is_none() && !dip_run_to_bound(&base, m);
+                let fitted = fit_multistart(&p, &starts, &sound, &mut |_| {});
+                if !fit::has_effect(&fitted, alt) || !sound(&fitted) {
+                    continue;
+                }
+                let a_rms = held_rms(&p, &fitted).0;
+                let b = bic(&p, a_rms, fit::params_of(&fitted).len());
+                if b < bic_cur && best.as_ref().is_none_or(|(bb, _, _)| b < *bb) {
+                    best = Some((b, alt, fitted));
+                }
+            }
+            if let Some((_, alt, m)) = best {
+                let (new_rms, new_r) = held_rms(&p, &m);
+                swapped.push((
+                    effect,
+                    alt,
+                    fit::model_error(rms, floor),
+                    fit::model_error(new_rms, floor),
+                ));
+                step.effect = alt;
+                step.model = m.clone();
+                model = m;
+                rms = new_rms;
+                r = new_r;
+            }
+        }
+    }
+    let (simpler, more) = simplify(&p, model.clone(), true, &mut show);
+    if !more.is_empty() {
+        model = simpler;
+        (rms, r) = held_rms(&p, &model);
+        dropped.extend(more);
+        // Without a dip `offset` and `asymmetry` are one shift (`F0` and
+        // `a·Fc`): only their sum is identified. The one named later goes.
+        let both = [Effect::Offset, Effect::Asymmetry].map(|e| fit::has_effect(&model, e));
+        if both == [true, true] && !fit::has_effect(&model, Effect::Stribeck) {
+            if let Some(k) = steps.iter().rposition(|s| look_alike(s.effect).is_some()) {
+                let effect = steps.remove(k).effect;
+                let without = remove_effect(&model, effect, &p);
+                let params = fit::params_of(&without);
+                let refit =
+                    fit::fit(&p, &without, &params, &FitOptions::default(), &mut |_| {}).model;
+                let (w_rms, w_r) = held_rms(&p, &refit);
+                pruned.push((
+                    effect,
+                    fit::model_error(w_rms, floor),
+                    fit::model_error(rms, floor),
+                ));
+                (model, rms, r) = (refit, w_rms, w_r);
+            }
+        }
+    }
+    let model = tidy(&p, model);
+    progress.finish();
+    let still = p.valid().filter(|&i| p.still[i]).count();
+    Report {
+        pruned,
+        swapped,
+        n: p.len(),
+        half_width: p.kf,
+        velocity_half_width: p.k,
+        dt: p.dt,
+        resolution: p.resolution,
+        given,
+        start: start_model,
+        rms_before: fit::model_error(raw_before, floor),
+        rms_after: fit::model_error(rms, floor),
+        raw_before,
+        raw_after: rms,
+        floor,
+        sigma0: p.sigma0,
+        still: (still, p.valid().len()),
+        dropped,
+        steps,
+        last_round,
+        regions,
+        regimes: regimes_before,
+        signals,
+        signal_series: signal_series(&p, &model),
+        model,
+        residual_after: r,
+        residual_before,
+        t: p.t.clone(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::data::Record;
+    use crate::fit::Window;
+
+    /// A reversing motion quantised to 1 µm, for starting models only.
+    fn prepared() -> Prepared {
+        let t: Vec<f64> = (0..2000).map(|i| i as f64 * 1e-3).collect();
+        let x: Vec<f64> = t
+            .iter()
+            .map(|&t| (2e-3 * (3.0 * t).sin() / 1e-6).round() * 1e-6)
+            .collect();
+        let rec = Record {
+            u: t.iter().map(|&t| (3.0 * t).cos()).collect(),
+            t,
+            x,
+            v: None,
+            source: "test".into(),
+        };
+        Prepared::with_window(
+            &rec,
+            Window {
+                velocity: 4,
+                force: 32,
+            },
+        )
+    }
+
+    /// A dip at the top of its range is degenerate, a candidate that runs
+    /// a dip there is held back (unless the current model's was there
+    /// already), and `simplify` drops it even when it helps the fit.
+    #[test]
+    fn a_dip_at_its_upper_bound_is_held_back_and_dropped() {
+        let p = prepared();
+        let mut inner = fig5_model();
+        inner.v_stribeck = low_speed(&p).expect("moving samples");
+        inner.delta = 2.0;
+        let mut top = inner.clone();
+        top.fs = (1.0 + fit::FS_EXCESS_MAX) * top.fc;
+        assert!(fs_at_bound(&top) && !fs_at_bound(&inner));
+        assert!(degenerate(&p, &top, Effect::Stribeck).is_some());
+        assert!(dip_run_to_bound(&inner, &top));
+        assert!(!dip_run_to_bound(&top, &top) && !dip_run_to_bound(&inner, &inner));
+        let (simpler, dropped) = simplify(&p, top, true, &mut |_| {});
+        assert!(
+            dropped.iter().any(|(e, _)| *e == Effect::Stribeck),
+            "{dropped:?}"
+        );
+        assert!(!fs_at_bound(&simpler));
+    }
+
+    /// A base whose dip ran to `Fs = Fc` has it seeded again in the
+    /// candidates' starts (without it `offset` and `asymmetry` are one
+    /// constant shift); a sound dip is left alone.
+    #[test]
+    fn a_lost_dip_is_seeded_again_in_the_candidate_starts() {
+        let p = prepared();
+        let r = vec![0.0; p.len()];
+        let v_lo = low_speed(&p).expect("moving samples");
+        let mut lost = fig5_model();
+        lost.fs = lost.fc;
+        lost.z_max = 20.0 * p.resolution;
+        let mut sound = lost.clone();
+        sound.fs = 1.5 * sound.fc;
+        sound.v_stribeck = v_lo;
+        assert!(dip_lost(&p, &lost) && !dip_lost(&p, &sound));
+        // Every start of the look-alikes (one for `offset`, three for
+        // `asymmetry`), the first of the others.
+        for (effect, want) in [
+            (Effect::Offset, 2),
+            (Effect::Asymmetry, 6),
+            (Effect::Viscous, 2),
+        ] {
+            let seeded = |m: &Model| {
+                candidate_starts(&p, m, effect, &r)
+                    .iter()
+                    .filter(|c| fit::has_effect(c, Effect::Stribeck))
+                    .filter(|c| c.delta == 2.0 && (c.fs / c.fc - 1.4).abs() < 1e-12)
+                    .count()
+            };
+            assert_eq!(seeded(&lost), want, "{effect}");
+            assert_eq!(seeded(&sound), 0, "{effect}");
+        }
+        // A dip at the bound of its range is lost too.
+        let mut high = sound.clone();
+        high.fs = (1.0 + fit::FS_EXCESS_MAX) * high.fc;
+        assert!(degenerate(&p, &high, Effect::Stribeck).is_some());
+    }
+}

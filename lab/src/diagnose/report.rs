@@ -1,0 +1,287 @@
+//! Report: the JSON report, the model in MODEL.md §7 names and the text a
+//! user reads.
+
+use super::*;
+
+/// The model as a JSON object with the MODEL.md §7 names.
+pub fn model_json(m: &Model) -> serde_json::Value {
+    let mut o = serde_json::json!({
+        "mass": m.mass, "fc": m.fc, "fs": m.fs, "v_stribeck": m.v_stribeck,
+        "delta": m.delta, "sigma": m.sigma, "z_max": m.z_max, "epsilon": m.epsilon,
+    });
+    let e = effect_params_all(m);
+    if !e.is_empty() {
+        o["effects"] = serde_json::Value::Object(e);
+    }
+    o
+}
+
+/// The effects of `m` with a table under `[effects]` (MODEL.md §7; the
+/// others are keys of the model itself), by name.
+pub(super) fn effect_params_all(m: &Model) -> serde_json::Map<String, serde_json::Value> {
+    let mut map = serde_json::Map::new();
+    for effect in Effect::ALL {
+        let top_level = matches!(
+            effect,
+            Effect::Viscous | Effect::Stribeck | Effect::Presliding
+        );
+        if !top_level && fit::has_effect(m, effect) {
+            map.insert(effect.name().into(), effect_params(m, effect));
+        }
+    }
+    map
+}
+
+/// The fitted parameters of one effect (MODEL.md §7 names).
+pub fn effect_params(m: &Model, effect: Effect) -> serde_json::Value {
+    let e = &m.effects;
+    use serde_json::json;
+    match effect {
+        Effect::Viscous => json!({"sigma": m.sigma}),
+        Effect::Stribeck => json!({"fs": m.fs, "v_stribeck": m.v_stribeck, "delta": m.delta}),
+        Effect::Presliding => json!({"z_max": m.z_max}),
+        Effect::Offset => json!({"f0": e.offset.map(|o| o.f0)}),
+        Effect::Asymmetry => json!({"a": e.asymmetry.map(|a| a.a)}),
+        Effect::PositionRipple => e.position_ripple.map_or(
+            json!({}),
+            |r| json!({"amplitude": r.amplitude, "wavelength": r.wavelength, "phase": r.phase}),
+        ),
+        Effect::DwellStiction => e.dwell_stiction.map_or(
+            json!({}),
+            |d| json!({"delta_fs": d.delta_fs, "gamma": d.gamma, "v_rest": d.v_rest}),
+        ),
+        Effect::FrictionalLag => json!({"tau_l": e.frictional_lag.map(|l| l.tau_l)}),
+        Effect::Drift => json!({"beta": e.drift.map(|d| d.beta)}),
+        Effect::NonlinearViscous => e
+            .nonlinear_viscous
+            .map_or(json!({}), |nv| json!({"sigma_n": nv.sigma_n, "n": nv.n})),
+    }
+}
+
+/// The JSON report (keys in lab/README.md).
+pub fn report_json(rep: &Report) -> String {
+    use serde_json::json;
+    let steps: Vec<_> = rep
+        .steps
+        .iter()
+        .map(|s| {
+            json!({
+                "effect": s.effect.name(),
+                "params": effect_params(&s.model, s.effect),
+                "rms_before": s.rms_before,
+                "rms_after": s.rms_after,
+                "score": s.score,
+                "signal": s.signal.0,
+                "signal_explained": s.signal.1,
+                "candidates": s.candidates.iter().map(|c| json!({"effect": c.effect.name(), "rms": c.rms, "score": c.score})).collect::<Vec<_>>(),
+                "tied_with": tied_look_alike(s, rep.floor).map(|(e, _, _)| e.name()),
+            })
+        })
+        .collect();
+    let v = json!({
+        "effects_added": rep.steps.iter().map(|s| s.effect.name()).collect::<Vec<_>>(),
+        "metric": METRIC,
+        "rms_before": rep.rms_before,
+        "rms_after": rep.rms_after,
+        "rms_given": rep.given,
+        "rms_raw_before": rep.raw_before,
+        "rms_raw_after": rep.raw_after,
+        "floor": rep.floor,
+        "noise_std": rep.sigma0,
+        "floor_explains": if rep.raw_after > 0.0 { (rep.floor / rep.raw_after).powi(2).min(1.0) } else { 1.0 },
+        "still_samples": rep.still.0,
+        "valid_samples": rep.still.1,
+        "dropped": rep.dropped.iter().map(|(n, why)| json!({"part": n.name(), "reason": why})).collect::<Vec<_>>(),
+        "regions": rep.regions.iter().map(|r| json!({"regime": r.regime, "t_start": r.t_start, "t_end": r.t_end, "rms": r.rms})).collect::<Vec<_>>(),
+        "regimes": rep.regimes.iter().map(|r| json!({"regime": r.regime, "n": r.n, "rms": r.rms})).collect::<Vec<_>>(),
+        "signals": rep.signals.iter().map(|(n, f)| json!({"signal": n, "explained": f})).collect::<Vec<_>>(),
+        "steps": steps,
+        "swapped": rep.swapped.iter().map(|(a, b, before, after)| json!({"effect": a.name(), "replaced_by": b.name(), "rms_before": before, "rms_after": after})).collect::<Vec<_>>(),
+        "pruned": rep.pruned.iter().map(|(n, without, with)| json!({"effect": n.name(), "rms_without": without, "rms_with": with})).collect::<Vec<_>>(),
+        "rejected": rep.last_round.iter().map(|c| json!({"effect": c.effect.name(), "rms": c.rms, "score": c.score})).collect::<Vec<_>>(),
+        "accept_gain": ACCEPT_GAIN,
+        "min_gap_share": MIN_GAP_SHARE,
+        "start_model": model_json(&rep.start),
+        "model": model_json(&rep.model),
+        "samples": rep.n,
+        "window": rep.half_width,
+        "velocity_window": rep.velocity_half_width,
+        "dt": rep.dt,
+        "resolution": rep.resolution,
+    });
+    let mut s = serde_json::to_string_pretty(&v).unwrap_or_else(|_| "{}".into());
+    s.push('\n');
+    s
+}
+
+pub(super) fn pct(before: f64, after: f64) -> String {
+    format!("{:.0} %", 100.0 * (before - after) / before)
+}
+
+/// The terminal text.
+pub fn report_text(rep: &Report, source: &str) -> String {
+    use crate::format::short;
+    use std::fmt::Write as _;
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "{source}: {} samples, dt = {} s, position resolution {} m, window ±{} samples",
+        rep.n,
+        short(rep.dt, 4),
+        short(rep.resolution, 3),
+        rep.half_width
+    );
+    let _ = writeln!(s, "residual: force along the measured motion (MODEL.md §8: compared locally), held-out time blocks 2, 5, 8 of 10");
+    let _ = writeln!(
+        s,
+        "measurement floor: {} N of the held-out rms is force noise (σ0 = {} N) and encoder resolution; {} of {} samples are still (friction = measured force, not scored); figures below are model error above that floor",
+        short(rep.floor, 3),
+        short(rep.sigma0, 3),
+        rep.still.0,
+        rep.still.1
+    );
+    for (part, why) in &rep.dropped {
+        let _ = writeln!(s, "not identifiable here, dropped: `{part}` ({why})");
+    }
+    if let Some(g) = rep.given {
+        let _ = writeln!(
+            s,
+            "given model: held-out model error {} N as given, {} N refitted",
+            short(g, 4),
+            short(rep.rms_before, 4)
+        );
+    } else {
+        let _ = writeln!(
+            s,
+            "start: base model (Coulomb + Stribeck + presliding) identified from the data, held-out model error {} N",
+            short(rep.rms_before, 4)
+        );
+    }
+    if let Some(top) = rep.regimes.first() {
+        let _ = writeln!(
+            s,
+            "largest disagreement: {} (rms {} N over {} samples)",
+            top.regime,
+            short(top.rms, 3),
+            top.n
+        );
+    }
+    if let Some(r) = rep.regions.first() {
+        let _ = writeln!(
+            s,
+            "worst window: {} at t = {}-{} s (rms {} N)",
+            r.regime,
+            short(r.t_start, 5),
+            short(r.t_end, 5),
+            short(r.rms, 3)
+        );
+    }
+    let mut sig = rep.signals.clone();
+    sig.sort_by(|a, b| b.1.total_cmp(&a.1));
+    let list: Vec<String> = sig
+        .iter()
+        .map(|(n, f)| format!("{n} {:.0} %", 100.0 * f))
+        .collect();
+    let _ = writeln!(s, "residual explained by: {}", list.join(", "));
+    for (k, st) in rep.steps.iter().enumerate() {
+        let _ = writeln!(
+            s,
+            "step {}: missing effect `{}` (lines up with {}, {:.0} % explained); adding it shrinks the gap from {} N to {} N ({}), ΔBIC {}",
+            k + 1,
+            st.effect,
+            st.signal.0,
+            100.0 * st.signal.1,
+            short(st.rms_before, 4),
+            short(st.rms_after, 4),
+            pct(st.rms_before, st.rms_after),
+            short(st.score, 4)
+        );
+        if let Some((other, mine, theirs)) = tied_look_alike(st, rep.floor) {
+            let _ = writeln!(
+                s,
+                "        `{other}` fits as well (model error {} vs {} N): this record does not tell them apart (they differ only in the Stribeck dip and at break-away)",
+                short(theirs, 4),
+                short(mine, 4)
+            );
+        }
+        let others: Vec<String> = st
+            .candidates
+            .iter()
+            .skip(1)
+            .take(3)
+            .map(|c| format!("{} {} N", c.effect, short(c.rms, 3)))
+            .collect();
+        if !others.is_empty() {
+            let _ = writeln!(s, "        next best: {}", others.join(", "));
+        }
+        let _ = writeln!(s, "        fitted: {}", effect_params(&st.model, st.effect));
+    }
+    if rep.steps.is_empty() {
+        let _ = writeln!(s, "no effect is missing: no candidate lowers the held-out rms by {:.0} % above the floor and removes {:.0} % of the gap with a better BIC", 100.0 * ACCEPT_GAIN, 100.0 * MIN_GAP_SHARE);
+    } else {
+        let _ = writeln!(
+            s,
+            "done: no further candidate lowers the held-out rms by {:.0} % above the floor and removes {:.0} % of the gap; gap {} N -> {} N ({}); the remaining rms {} N is {:.0} % noise and resolution",
+            100.0 * ACCEPT_GAIN,
+            100.0 * MIN_GAP_SHARE,
+            short(rep.rms_before, 4),
+            short(rep.rms_after, 4),
+            pct(rep.rms_before, rep.rms_after),
+            short(rep.raw_after, 3),
+            100.0 * (rep.floor / rep.raw_after.max(1e-300)).powi(2).min(1.0)
+        );
+    }
+    for (a, b, before, after) in &rep.swapped {
+        let _ = writeln!(
+            s,
+            "swap check: `{a}` replaced by `{b}` (model error {} N -> {} N, lower held-out BIC)",
+            short(*before, 4),
+            short(*after, 4)
+        );
+    }
+    for (n, without, with) in &rep.pruned {
+        let _ = writeln!(
+            s,
+            "backward check: `{n}` dropped again (held-out rms {} N without it, {} N with it)",
+            short(*without, 4),
+            short(*with, 4)
+        );
+    }
+    if let Some(c) = rep.last_round.first() {
+        let _ = writeln!(
+            s,
+            "best rejected candidate: {} (held-out rms {} N, ΔBIC {})",
+            c.effect,
+            short(c.rms, 4),
+            short(c.score, 4)
+        );
+    }
+    let added: Vec<&str> = rep.steps.iter().map(|s| s.effect.name()).collect();
+    let _ = writeln!(s, "effects added: [{}]", added.join(", "));
+    let m = &rep.model;
+    let _ = writeln!(
+        s,
+        "model: mass {} fc {} fs {} v_stribeck {} delta {} sigma {} z_max {}{}",
+        short(m.mass, 5),
+        short(m.fc, 5),
+        short(m.fs, 5),
+        short(m.v_stribeck, 4),
+        short(m.delta, 3),
+        short(m.sigma, 5),
+        short(m.z_max, 3),
+        if effect_params_all(m).is_empty() {
+            String::new()
+        } else {
+            format!(
+                " effects {}",
+                serde_json::Value::Object(effect_params_all(m))
+            )
+        }
+    );
+    s
+}
+
+/// Parameter list for `fit` output.
+pub fn params_json(params: &[Param]) -> Vec<String> {
+    params.iter().map(|p| format!("{p:?}")).collect()
+}

@@ -1,0 +1,328 @@
+//! Selection: the rules that decide whether a fitted candidate is a finding
+//! (held-out gain, share of the gap, visibility above the noise), which
+//! fits are degenerate (a parameter at a bound or at a non-physical value),
+//! and which effects look alike.
+
+use super::*;
+
+/// Least relative reduction of the held-out RMS for a candidate to be
+/// accepted.
+///
+/// The held-out residual samples are not independent: the differentiator
+/// window (11 samples), the control loop and the smoothing of the force
+/// kernel correlate them over tens of samples, so the `ln(n)` penalty of BIC
+/// per parameter is too weak by about that factor and BIC alone would accept
+/// parameters that fit the correlated floor (differentiation and
+/// discretisation errors at break-away). Requiring a 5 % lower held-out RMS
+/// on top is a margin above what an effect-free record gives: on the
+/// effect-free records of the test matrix no candidate reached 1.5 % (while
+/// BIC alone accepted some), and the hidden effects give 11–95 % (see
+/// lab/README.md).
+pub const ACCEPT_GAIN: f64 = 0.05;
+
+/// Least size of a named effect: the RMS of the force it adds along the
+/// measured motion (moving samples), in units of the per-sample force
+/// noise ([`visibility`]). The smallest effects the workflow is asked to
+/// find are 3× the noise; a candidate below 2× only absorbs the rest of a
+/// model error (on effect-free development records, a `frictional_lag` of
+/// τ = 1.2 ms and an `asymmetry` of 6e-5 were named that way).
+pub const MIN_VISIBILITY: f64 = 2.0;
+
+/// RMS [N] of the force that `effect` adds to `m` along the measured
+/// motion (moving samples), over the per-sample force noise the floor
+/// assumes (`σ0/‖W‖`, [`Prepared::sigma0`]).
+pub fn visibility(p: &Prepared, m: &Model, effect: Effect) -> f64 {
+    let with = p.friction(m);
+    let without = p.friction(&remove_effect(m, effect, p));
+    let (mut s, mut n) = (0.0, 0usize);
+    for i in p.valid().filter(|&i| !p.still[i]) {
+        s += (with[i] - without[i]).powi(2);
+        n += 1;
+    }
+    let noise = p.sigma0 / p.kernel_norm();
+    if n == 0 || noise.is_nan() || noise <= 0.0 {
+        return f64::INFINITY;
+    }
+    (s / n as f64).sqrt() / noise
+}
+
+/// Least relative reduction per added parameter (a candidate with `p` new
+/// parameters needs `max(ACCEPT_GAIN, p·ACCEPT_GAIN_PER_PARAM)`;
+/// `dwell_stiction` counts its grid-chosen `v_rest`). A periodic term with
+/// free wavelength and phase finds some line in any structured residual:
+/// in the test matrix, spurious `position_ripple` lines reached 12 % after
+/// the real effect had been added.
+pub const ACCEPT_GAIN_PER_PARAM: f64 = 0.045;
+
+/// The relative reduction of the held-out rms from `before` to `after`
+/// that lies above the measurement `floor`: `(before − max(after,
+/// floor))/before`, 0 when `before` is at or below the floor. What a
+/// candidate removes below the floor is noise and resolution, however
+/// much BIC likes it: a record already at its floor is missing nothing.
+pub fn gain_above_floor(before: f64, after: f64, floor: f64) -> f64 {
+    if before > floor && before > 0.0 {
+        (before - after.max(floor)) / before
+    } else {
+        0.0
+    }
+}
+
+/// Least share of the gap (model error above the floor, [`fit::model_error`])
+/// that a named effect must remove, on top of [`required_gain`].
+///
+/// The floor counts force noise and encoder resolution, but not all that a
+/// quantised, servo-driven record leaves unresolved (the last counts
+/// before a stop, chatter within a count), so a record with no missing
+/// effect still shows a gap, and some candidate always absorbs a part of
+/// it. On 260 development records of the independent generator (seeds
+/// 9000–9039, 9200–9229, 9500–9529 and 400000–400159, the last scored as
+/// a fresh sweep before this rule), the steps that named a hidden effect
+/// removed less than 25 % of the gap in 12 of 177 cases, the steps that
+/// named an effect that was not there in 33 of 71.
+pub const MIN_GAP_SHARE: f64 = 0.25;
+
+/// The share of the gap that goes from `before` to `after` (held-out
+/// rms [N]) removes: `1 − e(after)/e(before)` with `e` the model error
+/// above `floor`; 0 when there is no gap.
+pub fn gap_share(before: f64, after: f64, floor: f64) -> f64 {
+    let e0 = fit::model_error(before, floor);
+    if e0 > 0.0 {
+        1.0 - fit::model_error(after, floor) / e0
+    } else {
+        0.0
+    }
+}
+
+/// Whether moving the held-out rms from `before` to `after` [N] is enough
+/// to name `effect`: [`required_gain`] of the rms above the floor and
+/// [`MIN_GAP_SHARE`] of the gap.
+pub fn enough_gain(effect: Effect, before: f64, after: f64, floor: f64) -> bool {
+    gain_above_floor(before, after, floor) >= required_gain(effect)
+        && gap_share(before, after, floor) >= MIN_GAP_SHARE
+}
+
+/// The gain a candidate must reach.
+pub fn required_gain(effect: Effect) -> f64 {
+    let p = match effect {
+        Effect::PositionRipple | Effect::DwellStiction | Effect::Stribeck => 3.0,
+        Effect::NonlinearViscous => 2.0,
+        Effect::Viscous
+        | Effect::Offset
+        | Effect::Asymmetry
+        | Effect::FrictionalLag
+        | Effect::Drift
+        | Effect::Presliding => 1.0,
+    };
+    ACCEPT_GAIN.max(p * ACCEPT_GAIN_PER_PARAM)
+}
+
+/// The catalogue effect that shifts the force like `effect` in gross
+/// sliding, if any: `offset` adds `F0` in both directions, `asymmetry` adds
+/// `a·S(v)`, the same shift wherever `S = Fc`. They differ only by
+/// `a·(Fs − Fc)` in the Stribeck dip and at break-away.
+pub fn look_alike(effect: Effect) -> Option<Effect> {
+    match effect {
+        Effect::Offset => Some(Effect::Asymmetry),
+        Effect::Asymmetry => Some(Effect::Offset),
+        Effect::Viscous
+        | Effect::NonlinearViscous
+        | Effect::PositionRipple
+        | Effect::DwellStiction
+        | Effect::FrictionalLag
+        | Effect::Drift
+        | Effect::Stribeck
+        | Effect::Presliding => None,
+    }
+}
+
+/// Share of a step's gap within which the named effect and its
+/// [`look_alike`] count as fitting equally well.
+pub const TIE_SHARE: f64 = 0.005;
+
+/// The look-alike of a step's effect when it fitted as well in that step's
+/// round (model errors above `floor` within [`TIE_SHARE`] of the gap
+/// before the step): the record does not tell the two apart, and the report
+/// says so. On the development records the choice between such a tied pair
+/// went either way (23 ties: 10 with `offset` hidden, 13 with `asymmetry`).
+pub fn tied_look_alike(step: &Step, floor: f64) -> Option<(Effect, f64, f64)> {
+    let other = look_alike(step.effect)?;
+    let err = |e: Effect| {
+        step.candidates
+            .iter()
+            .find(|c| c.effect == e)
+            .map(|c| fit::model_error(c.rms, floor))
+    };
+    let (mine, theirs) = (err(step.effect)?, err(other)?);
+    ((mine - theirs).abs() <= TIE_SHARE * step.rms_before).then_some((other, mine, theirs))
+}
+
+/// Shortest rest counted by [`dwell_spread`] [s]: the data-side rest at a
+/// slow reversal through zero lasts up to about 60 ms at high encoder noise.
+pub const MIN_DWELL_REST: f64 = 0.1;
+
+/// Least spread of the dwell factor `t_d/(t_d + γ)` over the rests of a
+/// record (see [`dwell_spread`]) for a `dwell_stiction` candidate to count.
+/// In the test matrix the identified dwell terms spread 0.27–0.36, the
+/// spurious ones (γ of 30–50 ms, fitting "after a rest" against "after a
+/// reversal") 0.05–0.07.
+pub const MIN_DWELL_SPREAD: f64 = 0.15;
+
+/// Spread (max − min) of `t_d/(t_d + γ)` of `m`'s dwell term over the
+/// rests of at least [`MIN_DWELL_REST`] that end in motion (data-side rest: `|v̂| ≤
+/// v_rest`); 0 without the effect or with fewer than two such rests.
+pub fn dwell_spread(p: &Prepared, m: &Model) -> f64 {
+    let Some(dw) = m.effects.dwell_stiction else {
+        return 0.0;
+    };
+    let mut start: Option<f64> = Some(p.t[0]);
+    let (mut lo, mut hi, mut n) = (f64::INFINITY, f64::NEG_INFINITY, 0);
+    for i in 0..p.len() {
+        if p.model_velocity(i).abs() <= dw.v_rest {
+            start.get_or_insert(p.t[i]);
+        } else if let Some(s) = start.take() {
+            let td = p.t[i] - s;
+            if td >= MIN_DWELL_REST {
+                let f = td / (td + dw.gamma);
+                lo = lo.min(f);
+                hi = hi.max(f);
+                n += 1;
+            }
+        }
+    }
+    if n >= 2 {
+        hi - lo
+    } else {
+        0.0
+    }
+}
+
+/// Share of the remaining gap (model error above the floor) that the
+/// general `nonlinear_viscous` must remove beyond `viscous` to be named
+/// instead of it.
+pub const NESTED_GAP_GAIN: f64 = 0.1;
+
+/// `viscous` is `nonlinear_viscous` with `n = 1`: the general form is
+/// taken only when its model error is [`NESTED_GAP_GAIN`] below the nested
+/// one's; otherwise `viscous` moves to the front. The comparison is on the
+/// gap, not on the raw rms: where noise and resolution dominate the rms,
+/// a fixed share of it would hide an exponent the data clearly show.
+pub(super) fn prefer_nested(cands: &mut [Candidate], floor: f64) {
+    let pos = |effect: Effect| cands.iter().position(|c| c.effect == effect);
+    if let (Some(0), Some(v)) = (pos(Effect::NonlinearViscous), pos(Effect::Viscous)) {
+        let general = fit::model_error(cands[0].rms, floor);
+        let nested = fit::model_error(cands[v].rms, floor);
+        if general > (1.0 - NESTED_GAP_GAIN) * nested {
+            cands.swap(0, v);
+        }
+    }
+}
+
+/// Whether `m` holds a Stribeck level `Fs` at the top of its range.
+pub(super) fn fs_at_bound(m: &Model) -> bool {
+    fit::has_effect(m, Effect::Stribeck) && m.fs - m.fc > 0.99 * fit::FS_EXCESS_MAX * m.fc
+}
+
+/// Whether `fitted` holds a Stribeck level at the top of its range that
+/// the current model `current` did not hold: a seeded or bent dip that a
+/// candidate ran to the bound (on EMPS, `Fs = 11·Fc` beside `viscous`: a
+/// hump standing in for the Coulomb level, written as a model) is not a
+/// finding of the candidate.
+pub(super) fn dip_run_to_bound(current: &Model, fitted: &Model) -> bool {
+    fs_at_bound(fitted) && !fs_at_bound(current)
+}
+
+/// Whether `m`'s Stribeck dip is absent (`Fs = Fc`) or degenerate.
+pub(super) fn dip_lost(p: &Prepared, m: &Model) -> bool {
+    !fit::has_effect(m, Effect::Stribeck) || degenerate(p, m, Effect::Stribeck).is_some()
+}
+
+/// Least relative rise of the held-out RMS for which a part of the base
+/// structure (`stribeck`, `presliding`) is kept: a part whose removal
+/// costs less than this is not supported by the record.
+pub const KEEP_GAIN: f64 = 0.01;
+
+/// A degenerate base part (a parameter at a bound) is still kept when the
+/// model without it is worse by more than this fraction of the held-out
+/// RMS: the record needs the shape, only not at an interior value.
+pub const DEGENERATE_KEEP: f64 = 0.1;
+
+/// Why the part `effect` of `m` (a catalogue effect, `stribeck` or
+/// `presliding` included) is degenerate — a parameter at a bound of its
+/// range or at a value the record cannot resolve — or `None`.
+pub fn degenerate(p: &Prepared, m: &Model, effect: Effect) -> Option<String> {
+    let near = |x: f64, bound: f64| (x / bound).ln().abs() < 0.02;
+    match effect {
+        Effect::Stribeck => {
+            if !fit::has_effect(m, effect) {
+                None
+            } else if m.v_stribeck < p.v_rest {
+                Some(format!(
+                    "V = {:.3e} m/s is below the slowest speed the encoder resolves ({:.3e} m/s)",
+                    m.v_stribeck, p.v_rest
+                ))
+            } else if near(m.delta, fit::DELTA_RANGE.0) || near(m.delta, fit::DELTA_RANGE.1) {
+                Some(format!("delta = {:.4} at a bound of its range", m.delta))
+            } else if m.fs - m.fc < 1e-3 * m.fc {
+                Some("Fs - Fc below 0.1 % of Fc".into())
+            } else if fs_at_bound(m) {
+                Some(format!(
+                    "Fs = {:.3}·Fc at the bound of its range",
+                    m.fs / m.fc
+                ))
+            } else {
+                None
+            }
+        }
+        Effect::Presliding => {
+            (fit::has_effect(m, effect) && m.z_max < 1.5 * p.resolution).then(|| {
+                format!(
+                    "z_max = {:.3e} m is below 1.5 encoder counts ({:.3e} m)",
+                    m.z_max, p.resolution
+                )
+            })
+        }
+        Effect::DwellStiction => m.effects.dwell_stiction.and_then(|d| {
+            (near(d.gamma, 5e-3) || near(d.gamma, 100.0))
+                .then(|| format!("gamma = {} s at a bound", d.gamma))
+        }),
+        Effect::NonlinearViscous => nonlinear_viscous_degenerate(m),
+        Effect::FrictionalLag => m.effects.frictional_lag.and_then(|l| {
+            (near(l.tau_l, 1e-3) || near(l.tau_l, 100.0))
+                .then(|| format!("tau_l = {} s at a bound", l.tau_l))
+        }),
+        Effect::Viscous
+        | Effect::Offset
+        | Effect::Asymmetry
+        | Effect::PositionRipple
+        | Effect::Drift => None,
+    }
+}
+
+/// Smallest exponent `n` for which `nonlinear_viscous` is a finding:
+/// below it `|v|^n` changes by less than 1.4× per decade of speed (0.15),
+/// a level that trades with Fc (on a ramp record a fit ran to n = 0.053
+/// beside `viscous` and moved Fc by a third).
+pub const NV_MIN_EXPONENT: f64 = 0.15;
+
+/// Why `m`'s `nonlinear_viscous` term is not a finding, or `None`:
+/// `n = 1` is `viscous` (MODEL.md §5 names it only for n ≠ 1), and an `n`
+/// at the lower bound of [`fit::NV_EXP_RANGE`] is not identified (the upper, 2, is MODEL.md's limit),
+/// nor one below [`NV_MIN_EXPONENT`].
+pub fn nonlinear_viscous_degenerate(m: &Model) -> Option<String> {
+    let nv = m.effects.nonlinear_viscous?;
+    let near = |x: f64, bound: f64| (x / bound).ln().abs() < 0.02;
+    if (nv.n - 1.0).abs() < 0.1 {
+        Some(format!("n = {:.3} is viscous", nv.n))
+    } else if near(nv.n, fit::NV_EXP_RANGE.0) {
+        // The upper end, n = 2, is MODEL.md's own limit and a valid value;
+        // the lower end is only the fit's.
+        Some(format!("n = {:.3} at the lower bound of its range", nv.n))
+    } else if nv.n < NV_MIN_EXPONENT {
+        Some(format!(
+            "n = {:.3} is a second Coulomb level, not a velocity strengthening",
+            nv.n
+        ))
+    } else {
+        None
+    }
+}
