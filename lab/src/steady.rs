@@ -593,14 +593,17 @@ pub fn report_json(rep: &SteadyReport) -> String {
         .steps
         .iter()
         .map(|s| {
-            json!({
-                "effect": s.effect.name(),
-                "params": diagnose::effect_params(&s.model, s.effect),
-                "rms_before": s.rms_before,
-                "rms_after": s.rms_after,
-                "score": s.score,
-                "candidates": s.candidates.iter().map(|c| json!({"effect": c.0.name(), "rms": c.1, "score": c.2})).collect::<Vec<_>>(),
-            })
+            let candidates = s
+                .candidates
+                .iter()
+                .map(|c| diagnose::candidate_json(c.0, c.1, c.2))
+                .collect();
+            diagnose::step_json(
+                s.effect,
+                &s.model,
+                (s.rms_before, s.rms_after, s.score),
+                candidates,
+            )
         })
         .collect();
     let v = json!({
@@ -611,7 +614,7 @@ pub fn report_json(rep: &SteadyReport) -> String {
         "rms_after": rep.rms_after,
         "floor": rep.noise,
         "steps": steps,
-        "rejected": rep.rejected.iter().map(|c| json!({"effect": c.0.name(), "rms": c.1, "score": c.2})).collect::<Vec<_>>(),
+        "rejected": rep.rejected.iter().map(|c| diagnose::candidate_json(c.0, c.1, c.2)).collect::<Vec<_>>(),
         "dropped": rep.dropped.iter().map(|(n, why)| json!({"part": n.name(), "reason": why})).collect::<Vec<_>>(),
         "pruned": rep.pruned.iter().map(|e| e.name()).collect::<Vec<_>>(),
         "start_model": diagnose::model_json(&rep.start),

@@ -58,6 +58,31 @@ pub fn effect_params(m: &Model, effect: Effect) -> serde_json::Value {
     }
 }
 
+/// One candidate as JSON (`effect`, `rms`, `score`), for the steps and the
+/// rejected list of both reports.
+pub fn candidate_json(effect: Effect, rms: f64, score: f64) -> serde_json::Value {
+    serde_json::json!({"effect": effect.name(), "rms": rms, "score": score})
+}
+
+/// The keys every accepted step has in both reports (dynamic and
+/// steady-state): effect, its fitted parameters, model error before and
+/// after [N], BIC change and the round's candidates.
+pub fn step_json(
+    effect: Effect,
+    model: &Model,
+    (rms_before, rms_after, score): (f64, f64, f64),
+    candidates: Vec<serde_json::Value>,
+) -> serde_json::Value {
+    serde_json::json!({
+        "effect": effect.name(),
+        "params": effect_params(model, effect),
+        "rms_before": rms_before,
+        "rms_after": rms_after,
+        "score": score,
+        "candidates": candidates,
+    })
+}
+
 /// The JSON report (keys in lab/README.md).
 pub fn report_json(rep: &Report) -> String {
     use serde_json::json;
@@ -65,17 +90,21 @@ pub fn report_json(rep: &Report) -> String {
         .steps
         .iter()
         .map(|s| {
-            json!({
-                "effect": s.effect.name(),
-                "params": effect_params(&s.model, s.effect),
-                "rms_before": s.rms_before,
-                "rms_after": s.rms_after,
-                "score": s.score,
-                "signal": s.signal.0,
-                "signal_explained": s.signal.1,
-                "candidates": s.candidates.iter().map(|c| json!({"effect": c.effect.name(), "rms": c.rms, "score": c.score})).collect::<Vec<_>>(),
-                "tied_with": tied_look_alike(s, rep.floor).map(|(e, _, _)| e.name()),
-            })
+            let candidates = s
+                .candidates
+                .iter()
+                .map(|c| candidate_json(c.effect, c.rms, c.score))
+                .collect();
+            let mut j = step_json(
+                s.effect,
+                &s.model,
+                (s.rms_before, s.rms_after, s.score),
+                candidates,
+            );
+            j["signal"] = json!(s.signal.0);
+            j["signal_explained"] = json!(s.signal.1);
+            j["tied_with"] = json!(tied_look_alike(s, rep.floor).map(|(e, _, _)| e.name()));
+            j
         })
         .collect();
     let v = json!({
@@ -98,7 +127,7 @@ pub fn report_json(rep: &Report) -> String {
         "steps": steps,
         "swapped": rep.swapped.iter().map(|(a, b, before, after)| json!({"effect": a.name(), "replaced_by": b.name(), "rms_before": before, "rms_after": after})).collect::<Vec<_>>(),
         "pruned": rep.pruned.iter().map(|(n, without, with)| json!({"effect": n.name(), "rms_without": without, "rms_with": with})).collect::<Vec<_>>(),
-        "rejected": rep.last_round.iter().map(|c| json!({"effect": c.effect.name(), "rms": c.rms, "score": c.score})).collect::<Vec<_>>(),
+        "rejected": rep.last_round.iter().map(|c| candidate_json(c.effect, c.rms, c.score)).collect::<Vec<_>>(),
         "accept_gain": ACCEPT_GAIN,
         "min_gap_share": MIN_GAP_SHARE,
         "start_model": model_json(&rep.start),
