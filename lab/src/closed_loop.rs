@@ -510,12 +510,41 @@ pub fn run(
     drift: Drift,
     setup: &Setup,
 ) -> Result<Figures, String> {
+    run_on(plant_kind, &MODEL_PLANT, compensator, drift, setup)
+}
+
+/// The parameters of a MODEL.md plant carrying the fractions `errors` =
+/// [Fc, Fs, V, z_max] (dimensionless) of the parameter errors of
+/// [`MODEL_PLANT`] against [`MODEL_COMPENSATOR`], each interpolated
+/// linearly in its own unit (N, N, m/s, m): 0 gives the compensator's value,
+/// 1 the benchmark plant's; the other parameters are the compensator's.
+pub fn model_plant_with_error(errors: [f64; 4]) -> breakaway::Params {
+    let (c, p) = (MODEL_COMPENSATOR, MODEL_PLANT);
+    let mix = |c: f32, p: f32, e: f64| (f64::from(c) + e * f64::from(p - c)) as f32;
+    breakaway::Params {
+        fc: mix(c.fc, p.fc, errors[0]),
+        fs: mix(c.fs, p.fs, errors[1]),
+        v_stribeck: mix(c.v_stribeck, p.v_stribeck, errors[2]),
+        z_max: mix(c.z_max, p.z_max, errors[3]),
+        ..c
+    }
+}
+
+/// [`run`] with the parameters of the `model` plant given (the `lugre`
+/// plant ignores them).
+pub fn run_on(
+    plant_kind: PlantKind,
+    model_plant: &breakaway::Params,
+    compensator: Compensator,
+    drift: Drift,
+    setup: &Setup,
+) -> Result<Figures, String> {
     setup.check()?;
     let params = compensator_params(plant_kind);
     let model = breakaway::Model::<f32>::new(params).map_err(|e| e.to_string())?;
     let mut plant: Box<dyn Plant> = match plant_kind {
         PlantKind::LuGre => Box::new(LuGrePlant(lugre::Plant::new(LuGre::CANUDAS_1995))),
-        PlantKind::Model => Box::new(ModelPlant::new(&MODEL_PLANT)),
+        PlantKind::Model => Box::new(ModelPlant::new(model_plant)),
     };
     let mut sensor = Measurement::new(setup)?;
     let mut noise = crate::synth::Rng::new(NOISE_SEED);
@@ -997,6 +1026,81 @@ mod tests {
         ] {
             let e = run(PlantKind::Model, c, Drift::None, &setup).unwrap_err();
             assert!(e.contains(needle), "{e}");
+        }
+    }
+
+    #[test]
+    fn parameter_error_fractions_span_compensator_to_plant() {
+        let (c, p) = (MODEL_COMPENSATOR, MODEL_PLANT);
+        assert_eq!(model_plant_with_error([0.0; 4]), c);
+        assert_eq!(model_plant_with_error([1.0; 4]), p);
+        let half = model_plant_with_error([0.0, 0.5, 0.0, 0.0]);
+        assert_eq!(
+            (half.fc, half.v_stribeck, half.z_max),
+            (c.fc, c.v_stribeck, c.z_max)
+        );
+        assert!((f64::from(half.fs) - 0.5 * f64::from(c.fs + p.fs)).abs() < 1e-6);
+        // `run` is `run_on` the benchmark's plant.
+        let setup = Setup::encoder(TARGET_ENCODER);
+        let c = Compensator::PRESLIDING;
+        assert_eq!(
+            run(PlantKind::Model, c, Drift::None, &setup).unwrap(),
+            run_on(PlantKind::Model, &MODEL_PLANT, c, Drift::None, &setup).unwrap()
+        );
+    }
+
+    /// `presliding` against `coulomb` (feedforward only, peak reversal
+    /// error) on the `model` plant as its parameter error grows from none
+    /// to the benchmark's, all four parameters together and each alone;
+    /// ideal measurement and the 1 µm encoder at four count phases.
+    /// `cargo test -p breakaway-lab --release closed_loop::tests::feedforward_ratio_against_parameter_error -- --ignored --nocapture`
+    #[test]
+    #[ignore = "a sweep for docs/compensation.md (2 × 9 × 5 runs)"]
+    fn feedforward_ratio_against_parameter_error() {
+        let phases = [0.0, 0.25, 0.5, 0.75];
+        let cases: [(&str, [f64; 4]); 5] = [
+            ("all", [1.0; 4]),
+            ("fc", [1.0, 0.0, 0.0, 0.0]),
+            ("fs", [0.0, 1.0, 0.0, 0.0]),
+            ("v", [0.0, 0.0, 1.0, 0.0]),
+            ("z_max", [0.0, 0.0, 0.0, 1.0]),
+        ];
+        println!("error  fraction  ideal: coulomb presliding ratio | 1 um (mean of 4 phases): coulomb presliding ratio");
+        for (name, errors) in cases {
+            for fraction in [0.0, 0.25, 0.5, 0.75, 1.0] {
+                if name != "all" && fraction != 1.0 {
+                    continue;
+                }
+                let plant = model_plant_with_error(errors.map(|e| e * fraction));
+                let peak = |c: Compensator, setup: &Setup| {
+                    run_on(PlantKind::Model, &plant, c, Drift::None, setup)
+                        .unwrap()
+                        .peak_reversal_error
+                };
+                let ideal = Setup::encoder(0.0);
+                let (ci, pi) = (
+                    peak(Compensator::COULOMB, &ideal),
+                    peak(Compensator::PRESLIDING, &ideal),
+                );
+                let (mut cq, mut pq) = (0.0, 0.0);
+                for count_phase in phases {
+                    let setup = Setup {
+                        count_phase,
+                        ..Setup::encoder(TARGET_ENCODER)
+                    };
+                    cq += peak(Compensator::COULOMB, &setup) / phases.len() as f64;
+                    pq += peak(Compensator::PRESLIDING, &setup) / phases.len() as f64;
+                }
+                println!(
+                    "{name:<6} {fraction:>8.2}  {:>7.2} {:>7.2} {:>5.2} | {:>7.2} {:>7.2} {:>5.2}",
+                    ci * 1e6,
+                    pi * 1e6,
+                    ci / pi,
+                    cq * 1e6,
+                    pq * 1e6,
+                    cq / pq
+                );
+            }
         }
     }
 
