@@ -45,6 +45,7 @@ use crate::reference::{
     Asymmetry, Drift, DwellStiction, Effect, Friction, FrictionalLag, Model, NonlinearViscous,
     Offset, PositionRipple,
 };
+use rayon::prelude::*;
 use std::f64::consts::PI;
 
 /// Rest threshold in counts per sample: `v_rest = 0.02·q/h`, i.e. a rest
@@ -820,19 +821,86 @@ impl Prepared {
     /// over the samples vectorises (the residual's cost with a ±32 kernel
     /// fell about 4×).
     pub fn filter_all(&self, s: &[f64]) -> Vec<f64> {
-        let valid = self.valid();
         let mut acc = vec![0.0; self.len()];
-        if valid.is_empty() {
-            return acc;
+        self.filter_into(s, self.valid(), &mut acc);
+        acc
+    }
+
+    /// [`Prepared::filter_at`] at every sample of `run` (a range inside
+    /// [`Prepared::valid`]), added to `acc`, which holds 0 there.
+    fn filter_into(&self, s: &[f64], run: std::ops::Range<usize>, acc: &mut [f64]) {
+        if run.is_empty() {
+            return;
         }
-        for (j, w) in self.kernel.iter().enumerate() {
-            // Sample i reads s[i + j − kf]; valid.start ≥ kf.
-            let src = &s[valid.start + j - self.kf..valid.end + j - self.kf];
-            for (a, x) in acc[valid.clone()].iter_mut().zip(src) {
+        // Sample i reads s[i + j − kf]; run.start ≥ kf. Four taps per
+        // pass over the samples (one load and store of the sum for four
+        // products), added one after another as in `filter_at`.
+        let src = |j: usize| &s[run.start + j - self.kf..run.end + j - self.kf];
+        let out = &mut acc[run.clone()];
+        let mut taps = self.kernel.chunks_exact(4);
+        let mut j = 0;
+        for w in &mut taps {
+            let (s0, s1, s2, s3) = (src(j), src(j + 1), src(j + 2), src(j + 3));
+            for (i, a) in out.iter_mut().enumerate() {
+                let mut t = *a + w[0] * s0[i];
+                t += w[1] * s1[i];
+                t += w[2] * s2[i];
+                *a = t + w[3] * s3[i];
+            }
+            j += 4;
+        }
+        for w in taps.remainder() {
+            for (a, x) in out.iter_mut().zip(src(j)) {
                 *a += w * x;
             }
+            j += 1;
+        }
+    }
+
+    /// The runs of consecutive valid samples on one side of the split
+    /// (`held_out == side`).
+    fn runs(&self, side: bool) -> Vec<std::ops::Range<usize>> {
+        let mut runs = Vec::new();
+        let mut start = None;
+        let valid = self.valid();
+        for i in valid.clone() {
+            match (self.held_out[i] == side, start) {
+                (true, None) => start = Some(i),
+                (false, Some(s)) => {
+                    runs.push(s..i);
+                    start = None;
+                }
+                _ => {}
+            }
+        }
+        if let Some(s) = start {
+            runs.push(s..valid.end);
+        }
+        runs
+    }
+
+    /// [`Prepared::filter_all`] on one side of the split only (`held_out
+    /// == side`; 0 elsewhere): the same values there, with the kernel
+    /// applied only where they are read (a fit reads the training side, a
+    /// score the held-out side).
+    pub fn filter_on(&self, s: &[f64], side: bool) -> Vec<f64> {
+        let mut acc = vec![0.0; self.len()];
+        for run in self.runs(side) {
+            self.filter_into(s, run, &mut acc);
         }
         acc
+    }
+
+    /// [`Prepared::residual`] on one side of the split only (see
+    /// [`Prepared::filter_on`]).
+    pub fn residual_on(&self, m: &Model, side: bool) -> Vec<f64> {
+        let f = self.friction(m);
+        let d: Vec<f64> = self.u_mid.iter().zip(&f).map(|(u, f)| u - f).collect();
+        let mut r = self.filter_on(&d, side);
+        for i in self.valid().filter(|&i| self.held_out[i] == side) {
+            r[i] -= m.mass * self.a[i];
+        }
+        r
     }
 
     /// Weighted RMS of `r` over the samples selected by `held_out`
@@ -1157,16 +1225,15 @@ pub struct FitResult {
 }
 
 /// The training residual vector `√w·r` of `m`.
-fn train_vec(p: &Prepared, m: &Model, idx: &[usize]) -> (Vec<f64>, Vec<f64>) {
-    let r = p.residual(m);
-    let e = idx.iter().map(|&i| p.weight[i].sqrt() * r[i]).collect();
-    (e, r)
+fn train_vec(p: &Prepared, m: &Model, idx: &[usize]) -> Vec<f64> {
+    let r = p.residual_on(m, false);
+    idx.iter().map(|&i| p.weight[i].sqrt() * r[i]).collect()
 }
 
 /// Weighted training cost of `m`.
 pub fn train_cost(p: &Prepared, m: &Model) -> f64 {
     let idx = train_indices(p);
-    train_vec(p, m, &idx).0.iter().map(|e| e * e).sum()
+    train_vec(p, m, &idx).iter().map(|e| e * e).sum()
 }
 
 fn train_indices(p: &Prepared) -> Vec<usize> {
@@ -1176,7 +1243,7 @@ fn train_indices(p: &Prepared) -> Vec<usize> {
 /// Analytic Jacobian column `∂r/∂θ` for parameters that enter linearly.
 fn analytic_column(p: &Prepared, m: &Model, par: Param, idx: &[usize]) -> Option<Vec<f64>> {
     let col = |s: &[f64]| -> Vec<f64> {
-        let f = p.filter_all(s);
+        let f = p.filter_on(s, false);
         idx.iter().map(|&i| -p.weight[i].sqrt() * f[i]).collect()
     };
     match par {
@@ -1236,7 +1303,7 @@ pub fn fit(
 
 /// A least-squares problem for [`levenberg_marquardt`]: a residual vector
 /// of a parameter vector, and optionally analytic Jacobian columns.
-pub trait Residuals {
+pub trait Residuals: Sync {
     /// The weighted residual vector at `th` (its squared sum is the cost).
     fn residuals(&self, th: &[f64]) -> Vec<f64>;
 
@@ -1260,7 +1327,7 @@ struct ModelProblem<'a> {
 impl Residuals for ModelProblem<'_> {
     fn residuals(&self, th: &[f64]) -> Vec<f64> {
         let m = decode(self.m0, self.params, th, self.t_span);
-        train_vec(self.p, &m, self.idx).0
+        train_vec(self.p, &m, self.idx)
     }
 
     fn column(&self, j: usize, th: &[f64]) -> Option<Vec<f64>> {
@@ -1286,19 +1353,23 @@ pub fn levenberg_marquardt(
     let mut lambda = 1e-3;
     for it in 0..opts.max_iter {
         tick(it);
-        let mut cols: Vec<Vec<f64>> = Vec::with_capacity(np);
-        for j in 0..np {
-            if let Some(c) = problem.column(j, &th) {
-                cols.push(c);
-                continue;
-            }
-            let h = 1e-4 * th[j].abs().max(1.0);
-            let mut th2 = th.clone();
-            th2[j] += h;
-            let e2 = problem.residuals(&th2);
-            passes += 1;
-            cols.push(e2.iter().zip(&e).map(|(a, b)| (a - b) / h).collect());
-        }
+        // The columns are independent: computed in parallel, each exactly
+        // as alone (the fit does not depend on the number of threads).
+        let cols: Vec<(Vec<f64>, usize)> = (0..np)
+            .into_par_iter()
+            .map(|j| {
+                if let Some(c) = problem.column(j, &th) {
+                    return (c, 0);
+                }
+                let h = 1e-4 * th[j].abs().max(1.0);
+                let mut th2 = th.clone();
+                th2[j] += h;
+                let e2 = problem.residuals(&th2);
+                (e2.iter().zip(&e).map(|(a, b)| (a - b) / h).collect(), 1)
+            })
+            .collect();
+        passes += cols.iter().map(|c| c.1).sum::<usize>();
+        let cols: Vec<Vec<f64>> = cols.into_iter().map(|c| c.0).collect();
         let mut a = vec![vec![0.0; np]; np];
         let mut g = vec![0.0; np];
         for r in 0..np {
@@ -1398,7 +1469,7 @@ mod tests {
             },
         );
         let s: Vec<f64> = (0..rec.len())
-            .map(|i| ((i * 7919) % 101) as f64 - 50.0)
+            .map(|i| ((i * 7919) % 101) as f64 * 0.371 - 18.3)
             .collect();
         let all = p.filter_all(&s);
         for (i, got) in all.iter().enumerate() {
@@ -1408,6 +1479,43 @@ mod tests {
                 0.0
             };
             assert_eq!(got.to_bits(), want.to_bits(), "sample {i}");
+        }
+    }
+
+    #[test]
+    fn one_side_is_the_full_filter_there() {
+        let rec = record(2000, 1e-3, |t| 1e-3 * (3.0 * t).sin());
+        let p = Prepared::with_window(
+            &rec,
+            Window {
+                velocity: 4,
+                force: 20,
+            },
+        );
+        let s: Vec<f64> = (0..rec.len())
+            .map(|i| ((i * 7919) % 101) as f64 * 0.371 - 18.3)
+            .collect();
+        let all = p.filter_all(&s);
+        let m = crate::diagnose::fig5_model();
+        let r_all = p.residual(&m);
+        for side in [false, true] {
+            let one = p.filter_on(&s, side);
+            let r_one = p.residual_on(&m, side);
+            let on_side = |i: usize| p.valid().contains(&i) && p.held_out[i] == side;
+            assert!((0..rec.len()).any(on_side) && !(0..rec.len()).all(on_side));
+            for i in 0..rec.len() {
+                let (want, want_r) = if on_side(i) {
+                    (all[i], r_all[i])
+                } else {
+                    (0.0, 0.0)
+                };
+                assert_eq!(one[i].to_bits(), want.to_bits(), "side {side} sample {i}");
+                assert_eq!(
+                    r_one[i].to_bits(),
+                    want_r.to_bits(),
+                    "side {side} sample {i}"
+                );
+            }
         }
     }
 

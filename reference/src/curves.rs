@@ -6,6 +6,10 @@ use crate::model::Model;
 /// Stribeck magnitude with explicit parameters:
 /// `Fc + (Fs − Fc)·exp(−(|v|/V)^δ)` [N].
 pub(crate) fn stribeck_raw(fc: f64, fs: f64, v_stribeck: f64, delta: f64, v: f64) -> f64 {
+    if fs == fc {
+        // No dip: the decay multiplies zero (same bits as the full form).
+        return fc;
+    }
     let r = v.abs() / v_stribeck;
     let p = if delta == 1.0 {
         r
@@ -14,7 +18,10 @@ pub(crate) fn stribeck_raw(fc: f64, fs: f64, v_stribeck: f64, delta: f64, v: f64
     } else {
         r.powf(delta)
     };
-    fc + (fs - fc) * (-p).exp()
+    // exp(−p) is 0 to the last bit beyond p = 745.2 (the smallest
+    // subnormal is e^−744.4); its underflow path is slow.
+    let decay = if p > 746.0 { 0.0 } else { (-p).exp() };
+    fc + (fs - fc) * decay
 }
 
 /// `S(v) = Fc + (Fs − Fc)·exp(−(|v|/V)^δ)` [N] (§2), the magnitude of the

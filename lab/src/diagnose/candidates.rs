@@ -23,7 +23,7 @@ pub(super) const FULL_FITS: usize = 3;
 pub(super) fn fit_multistart(
     p: &Prepared,
     starts: &[Model],
-    sound: &dyn Fn(&Model) -> bool,
+    sound: &(dyn Fn(&Model) -> bool + Sync),
     progress: &mut dyn FnMut(&str),
 ) -> Model {
     if let [only] = starts {
@@ -31,13 +31,20 @@ pub(super) fn fit_multistart(
         let params = fit::params_of(only);
         return fit::fit(p, only, &params, &FitOptions::default(), &mut |_| {}).model;
     }
-    let mut short: Vec<(f64, Model)> = Vec::new();
-    for (i, s) in starts.iter().enumerate() {
-        progress(&format!("start {}/{}", i + 1, starts.len()));
-        let params = fit::params_of(s);
-        let r = fit::fit(p, s, &params, &quick(), &mut |_| {});
-        short.push((r.cost, r.model));
-    }
+    progress(&format!("{} starts", starts.len()));
+    // The short fits are independent: in parallel, in the order of the
+    // starts (a stable sort keeps ties as a sequential run would). Giving
+    // every start of a large grid 4 iterations and only the best third
+    // the rest (successive halving) saved 16 % of the passes on EMPS, but
+    // lost two of 160 development records to a worse local minimum.
+    let mut short: Vec<(f64, Model)> = starts
+        .par_iter()
+        .map(|s| {
+            let params = fit::params_of(s);
+            let r = fit::fit(p, s, &params, &quick(), &mut |_| {});
+            (r.cost, r.model)
+        })
+        .collect();
     short.sort_by(|a, b| a.0.total_cmp(&b.0));
     let mut first = None;
     for (_, m) in short.into_iter().take(FULL_FITS) {

@@ -32,6 +32,7 @@ use crate::reference::{
     Asymmetry, Drift, DwellStiction, Effect, Effects, Friction, FrictionalLag, Model,
     NonlinearViscous, Offset, PositionRipple,
 };
+use rayon::prelude::*;
 use std::f64::consts::PI;
 
 mod base;
@@ -272,25 +273,33 @@ pub fn diagnose(
         let (mut cands, mut held_back) = (Vec::new(), Vec::new());
         let n_cur = fit::params_of(&model).len();
         let bic_cur = bic(&p, rms, n_cur);
-        for (ci, &effect) in missing.iter().enumerate() {
-            let starts = candidate_starts(&p, &model, effect, &r);
-            if starts.is_empty() {
-                continue;
-            }
-            let label = format!(
-                "round {}: candidate {}/{} {effect}",
-                round + 1,
-                ci + 1,
-                missing.len()
-            );
-            let sound =
-                |m: &Model| degenerate(&p, m, effect).is_none() && !dip_run_to_bound(&model, m);
-            let fitted = fit_multistart(&p, &starts, &sound, &mut |s| {
-                show(&format!("{label} ({s})"))
-            });
-            if !fit::has_effect(&fitted, effect) {
-                continue;
-            }
+        // Each missing effect is fitted on its own (in parallel; the
+        // results are taken in catalogue order below, as a sequential run
+        // would take them).
+        show(&format!(
+            "round {}: fitting {} candidates ({})",
+            round + 1,
+            missing.len(),
+            missing
+                .iter()
+                .map(|e| e.to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        ));
+        let fits: Vec<Option<(Effect, Model)>> = missing
+            .par_iter()
+            .map(|&effect| {
+                let starts = candidate_starts(&p, &model, effect, &r);
+                if starts.is_empty() {
+                    return None;
+                }
+                let sound =
+                    |m: &Model| degenerate(&p, m, effect).is_none() && !dip_run_to_bound(&model, m);
+                let fitted = fit_multistart(&p, &starts, &sound, &mut |_| {});
+                fit::has_effect(&fitted, effect).then_some((effect, fitted))
+            })
+            .collect();
+        for (effect, fitted) in fits.into_iter().flatten() {
             // Dwell *time* stiction must make the break-away depend on the
             // rest length; a γ far below every rest of the record only
             // separates "after a rest" from "after a reversal" (the
@@ -405,9 +414,15 @@ pub fn diagnose(
                 .chain(&step.held_back)
                 .collect();
             runner_ups.sort_by(|a, b| a.score.total_cmp(&b.score));
+            // Only a runner-up that its round would have named had it come
+            // first (a look-alike closes about as much of the gap); one
+            // that fell short there does not replace the step's effect
+            // with the others in place.
+            let round_rms = p.rms(&step.residual_before, Some(true));
             let alts: Vec<Effect> = runner_ups
                 .iter()
                 .take(2)
+                .filter(|c| enough_gain(c.effect, round_rms, c.rms, floor))
                 .map(|c| c.effect)
                 .filter(|&c| !fit::has_effect(&model, c))
                 .collect();
@@ -420,20 +435,26 @@ pub fn diagnose(
             let base = fit::fit(&p, &without, &params, &FitOptions::default(), &mut |_| {}).model;
             let base_r = p.residual(&base);
             let bic_cur = bic(&p, rms, fit::params_of(&model).len());
+            let fits: Vec<Option<(f64, Effect, Model)>> = alts
+                .par_iter()
+                .map(|&alt| {
+                    let starts = candidate_starts(&p, &base, alt, &base_r);
+                    if starts.is_empty() {
+                        return None;
+                    }
+                    let sound =
+                        |m: &Model| degenerate(&p, m, alt).is_none() && !dip_run_to_bound(&base, m);
+                    let fitted = fit_multistart(&p, &starts, &sound, &mut |_| {});
+                    if !fit::has_effect(&fitted, alt) || !sound(&fitted) {
+                        return None;
+                    }
+                    let a_rms = held_rms(&p, &fitted).0;
+                    let b = bic(&p, a_rms, fit::params_of(&fitted).len());
+                    Some((b, alt, fitted))
+                })
+                .collect();
             let mut best: Option<(f64, Effect, Model)> = None;
-            for &alt in &alts {
-                let starts = candidate_starts(&p, &base, alt, &base_r);
-                if starts.is_empty() {
-                    continue;
-                }
-                let sound =
-                    |m: &Model| degenerate(&p, m, alt).is_none() && !dip_run_to_bound(&base, m);
-                let fitted = fit_multistart(&p, &starts, &sound, &mut |_| {});
-                if !fit::has_effect(&fitted, alt) || !sound(&fitted) {
-                    continue;
-                }
-                let a_rms = held_rms(&p, &fitted).0;
-                let b = bic(&p, a_rms, fit::params_of(&fitted).len());
+            for (b, alt, fitted) in fits.into_iter().flatten() {
                 if b < bic_cur && best.as_ref().is_none_or(|(bb, _, _)| b < *bb) {
                     best = Some((b, alt, fitted));
                 }
