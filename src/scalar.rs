@@ -64,11 +64,7 @@ pub trait Scalar:
     /// |self|.
     #[inline(always)]
     fn abs(self) -> Self {
-        if self < Self::ZERO {
-            -self
-        } else {
-            self
-        }
+        self.signed(self)
     }
 
     /// `self`·`sign` for `sign` = ±1: −`self` for a negative `sign`.
