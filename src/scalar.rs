@@ -64,7 +64,11 @@ pub trait Scalar:
     /// |self|.
     #[inline(always)]
     fn abs(self) -> Self {
-        self.signed(self)
+        if self < Self::ZERO {
+            -self
+        } else {
+            self
+        }
     }
 
     /// `self`·`sign` for `sign` = ±1: −`self` for a negative `sign`.
