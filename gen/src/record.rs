@@ -71,6 +71,20 @@ pub struct Generated {
 }
 
 impl Generated {
+    /// `effect=visibility` per hidden effect joined by `sep`; `None` when
+    /// no effect is hidden.
+    pub fn visibilities(&self, sep: &str) -> Option<String> {
+        let d = &self.draw;
+        (!d.hidden.is_empty()).then(|| {
+            d.hidden
+                .iter()
+                .zip(&self.visibility)
+                .map(|(e, v)| format!("{}={:.1}", e.name(), v))
+                .collect::<Vec<_>>()
+                .join(sep)
+        })
+    }
+
     /// Record name `s<seed>_<family>[_<plant>]_<effects|null>`.
     pub fn name(&self) -> String {
         let d = &self.draw;
