@@ -238,7 +238,7 @@ pub fn draw(seed: u64, attempt: u32, kind: Kind, ov: &Overrides) -> Result<Draw,
         }
         if !plant.supports(*e) {
             return Err(format!(
-                "effect `{}` needs the MODEL.md presliding law; plant `{}` does not carry it",
+                "effect `{}` needs the presliding law of the `model` plant; plant `{}` does not carry it",
                 e.name(),
                 plant.name()
             ));

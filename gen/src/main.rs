@@ -30,7 +30,7 @@ use std::time::Instant;
 #[command(
     name = "breakaway-gen",
     version,
-    about = "Independent generator of friction test records (MODEL.md §6 CSV + §7 truth)"
+    about = "Independent generator of friction test records (CSV records and TOML truth models, as breakaway-lab reads them)"
 )]
 struct Cli {
     #[command(subcommand)]
