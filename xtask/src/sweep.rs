@@ -302,6 +302,14 @@ fn progress_bar(total: usize) -> ProgressBar {
     bar
 }
 
+/// The distinct names, sorted.
+fn distinct(names: impl Iterator<Item = String>) -> Vec<String> {
+    let mut v: Vec<String> = names.collect();
+    v.sort();
+    v.dedup();
+    v
+}
+
 fn median(mut v: Vec<f64>) -> f64 {
     v.retain(|x| x.is_finite());
     if v.is_empty() {
@@ -426,9 +434,7 @@ pub fn summary(scored: &[Scored]) -> Summary {
         (20.0, 50.0),
         (50.0, f64::INFINITY),
     ];
-    let mut effects: Vec<String> = scored.iter().flat_map(|s| s.hidden.clone()).collect();
-    effects.sort();
-    effects.dedup();
+    let effects = distinct(scored.iter().flat_map(|s| s.hidden.clone()));
     let per_effect = effects
         .into_iter()
         .map(|e| {
@@ -473,9 +479,7 @@ pub fn summary(scored: &[Scored]) -> Summary {
                 .collect::<Vec<_>>()
         })
         .collect();
-    let mut plants: Vec<String> = scored.iter().map(|s| s.plant.clone()).collect();
-    plants.sort();
-    plants.dedup();
+    let plants = distinct(scored.iter().map(|s| s.plant.clone()));
     let per_plant = plants
         .into_iter()
         .map(|plant| {
