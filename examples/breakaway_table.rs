@@ -10,7 +10,7 @@
 #[path = "common/mod.rs"]
 mod common;
 
-use breakaway::{BreakAwayPredictor, Model, Variant, DEFAULT_BOUNDARY};
+use breakaway::{BreakAwayPredictor, Variant, DEFAULT_BOUNDARY};
 use cortex_m_rt::entry;
 use cortex_m_semihosting::hprintln;
 
@@ -21,9 +21,7 @@ const RATES: [f32; 17] = [
 
 #[entry]
 fn main() -> ! {
-    let Ok(model) = Model::<f32>::new(common::FIG5) else {
-        common::exit_failure("invalid parameters");
-    };
+    let model = common::model::<f32>(common::FIG5);
     let Ok(predictor) = BreakAwayPredictor::new(&model, DEFAULT_BOUNDARY) else {
         common::exit_failure("invalid boundary");
     };

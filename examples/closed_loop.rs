@@ -15,13 +15,12 @@ mod common;
 mod harness;
 
 use breakaway::compensation::{
-    DisturbanceObserver, Feedforward, FeedforwardConfig, ObserverConfig, StictionAdaptation,
-    StictionConfig,
+    DisturbanceObserver, Feedforward, FeedforwardConfig, StictionAdaptation,
 };
 use breakaway::Model;
 use cortex_m_rt::entry;
 use cortex_m_semihosting::hprintln;
-use harness::{Inputs, ADAPTATION_RATE, MASS, OBSERVER_BANDWIDTH, PERIOD, REVERSAL_GAIN};
+use harness::Inputs;
 
 /// Compensators: (name, feedforward 0 none, 1 Coulomb, 2 Stribeck,
 /// 3 presliding; observer; adaptation), as the host benchmark names them.
@@ -51,23 +50,8 @@ fn run(
     if adapt {
         ff = ff.with_split_levels();
     }
-    let mut observer = DisturbanceObserver::new(ObserverConfig {
-        mass: MASS,
-        bandwidth: OBSERVER_BANDWIDTH,
-        period: PERIOD,
-    })
-    .ok()?;
-    let mut adaptation = StictionAdaptation::new(StictionConfig {
-        rate: ADAPTATION_RATE,
-        reversal_gain: REVERSAL_GAIN,
-        bandwidth: OBSERVER_BANDWIDTH,
-        min_scale: 0.5,
-        max_scale: 2.0,
-        max_stiction_scale: 3.0,
-        min_speed: common::FIG5.v_stribeck,
-        period: PERIOD,
-    })
-    .ok()?;
+    let mut observer = DisturbanceObserver::new(harness::OBSERVER).ok()?;
+    let mut adaptation = StictionAdaptation::new(harness::ADAPTATION).ok()?;
     let mut u_ff = 0.0f32;
     harness::run(encoder, |i: &Inputs| {
         let residual = if observe {
@@ -94,9 +78,7 @@ fn run(
 
 #[entry]
 fn main() -> ! {
-    let Ok(model) = Model::<f32>::new(common::FIG5) else {
-        common::exit_failure("invalid parameters");
-    };
+    let model = common::model::<f32>(common::FIG5);
     harness::print_config();
     let runs = COMPENSATORS
         .iter()

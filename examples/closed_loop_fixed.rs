@@ -16,13 +16,12 @@ mod common;
 mod harness;
 
 use breakaway::compensation::{
-    DisturbanceObserver, Feedforward, FeedforwardConfig, ObserverConfig, StictionAdaptation,
-    StictionConfig,
+    DisturbanceObserver, Feedforward, FeedforwardConfig, StictionAdaptation,
 };
 use breakaway::{Model, Scalar, Q16};
 use cortex_m_rt::entry;
 use cortex_m_semihosting::hprintln;
-use harness::{Inputs, ADAPTATION_RATE, MASS, OBSERVER_BANDWIDTH, PERIOD, REVERSAL_GAIN};
+use harness::Inputs;
 
 /// Metres per encoder count of the reference position.
 const COUNT: f32 = 1e-8;
@@ -45,23 +44,8 @@ fn run(observe: bool, model: &Model<Q16>, encoder: f32) -> Option<(f32, f32, f32
     if observe {
         ff = ff.with_split_levels();
     }
-    let observer_config = ObserverConfig {
-        mass: MASS,
-        bandwidth: OBSERVER_BANDWIDTH,
-        period: PERIOD,
-    };
-    let mut observer = DisturbanceObserver::<Q16>::with_units(observer_config, units).ok()?;
-    let adaptation_config = StictionConfig {
-        rate: ADAPTATION_RATE,
-        reversal_gain: REVERSAL_GAIN,
-        bandwidth: OBSERVER_BANDWIDTH,
-        min_scale: 0.5,
-        max_scale: 2.0,
-        max_stiction_scale: 3.0,
-        min_speed: common::FIG5.v_stribeck,
-        period: PERIOD,
-    };
-    let mut adaptation = StictionAdaptation::<Q16>::with_units(adaptation_config, units).ok()?;
+    let mut observer = DisturbanceObserver::<Q16>::with_units(harness::OBSERVER, units).ok()?;
+    let mut adaptation = StictionAdaptation::<Q16>::with_units(harness::ADAPTATION, units).ok()?;
     let mut u_ff = Q16::ZERO;
     harness::run(encoder, |i: &Inputs| {
         // The boundary: SI in f32 → counts and per-unit Q16.

@@ -15,7 +15,7 @@
 #[path = "common/mod.rs"]
 mod common;
 
-use breakaway::{BreakAwayPredictor, Model, Presliding, Scalar, Variant, DEFAULT_BOUNDARY, Q16};
+use breakaway::{BreakAwayPredictor, Presliding, Scalar, Variant, DEFAULT_BOUNDARY, Q16};
 use cortex_m_rt::entry;
 use cortex_m_semihosting::hprintln;
 
@@ -31,9 +31,7 @@ const SAMPLES: i32 = 600;
 
 #[entry]
 fn main() -> ! {
-    let Ok(model) = Model::<Fx>::new(common::FIG5) else {
-        common::exit_failure("invalid parameters");
-    };
+    let model = common::model::<Fx>(common::FIG5);
     // Velocity in units of V per trajectory step per sample, converted once.
     let Some(per_step) = model.velocity(STEP / DT) else {
         common::exit_failure("velocity scale out of range");

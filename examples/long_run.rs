@@ -14,7 +14,6 @@
 #[path = "common/mod.rs"]
 mod common;
 
-use breakaway::{Model, Presliding};
 use cortex_m_rt::entry;
 use cortex_m_semihosting::hprintln;
 
@@ -23,15 +22,8 @@ const COUNT: f32 = 1e-8;
 
 #[entry]
 fn main() -> ! {
-    let Ok(model) = Model::<f32>::new(common::LONG_RUN) else {
-        common::exit_failure("invalid parameters");
-    };
-    let (Ok(mut single), Ok(mut closing)) = (
-        Presliding::<i64>::new(0, COUNT),
-        Presliding::<i64, f32, 8>::new(0, COUNT),
-    ) else {
-        common::exit_failure("invalid scale");
-    };
+    let model = common::model::<f32>(common::LONG_RUN);
+    let (mut single, mut closing) = common::presliding_pair(COUNT);
     let mut max_h = 0.0f32;
     // The motion of the host's hardening test, replayed by `cargo xtask`.
     for (n, (x, v)) in (0..SAMPLES).zip(common::Strokes::new(COUNT)) {

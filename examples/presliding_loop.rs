@@ -14,7 +14,6 @@
 #[path = "common/mod.rs"]
 mod common;
 
-use breakaway::{Model, Presliding};
 use cortex_m_rt::entry;
 use cortex_m_semihosting::hprintln;
 
@@ -26,15 +25,8 @@ const SAMPLES: i32 = 1200;
 
 #[entry]
 fn main() -> ! {
-    let Ok(model) = Model::<f32>::new(common::FIG5) else {
-        common::exit_failure("invalid parameters");
-    };
-    let (Ok(mut single), Ok(mut closing)) = (
-        Presliding::<i64>::new(0, COUNT),
-        Presliding::<i64, f32, 8>::new(0, COUNT),
-    ) else {
-        common::exit_failure("invalid scale");
-    };
+    let model = common::model::<f32>(common::FIG5);
+    let (mut single, mut closing) = common::presliding_pair(COUNT);
     let mut last = 0;
     for n in 0..SAMPLES {
         let count = i64::from(common::reversal_trajectory(n));

@@ -67,6 +67,17 @@ pub enum SampleError {
 impl SampleError {
     /// What went wrong, in a few words (the [`Display`](fmt::Display) text
     /// without the driver's detail).
+    ///
+    /// ```
+    /// use breakaway::{Model, Params, Presliding, SampleError};
+    /// let p = Params { fc: 1.0, fs: 1.5, v_stribeck: 1e-3, delta: 1.0,
+    ///                  sigma: 0.0, z_max: 1e-5, epsilon: 0.0 };
+    /// let model = Model::<f32>::new(p).unwrap();
+    /// let mut axis = Presliding::<f32>::new(0.0, 1.0).unwrap();
+    /// let e = axis.update(&model, f32::NAN, 0.0).unwrap_err();
+    /// assert_eq!(e, SampleError::Position);
+    /// assert_eq!(e.message(), "position sample is not finite");
+    /// ```
     pub const fn message(&self) -> &'static str {
         match self {
             SampleError::Position => "position sample is not finite",

@@ -181,7 +181,32 @@ impl<P: SetDutyCycle, T: Duty> PwmForce<P, T> {
         })
     }
 
-    /// The force at full scale F_full [N] (model units).
+    /// The force at full scale F_full [N] (model units). With
+    /// [`inner_mut`](Self::inner_mut) and [`release`](Self::release):
+    ///
+    /// ```
+    /// use breakaway::hal::{DutyMode, PwmForce};
+    /// use embedded_hal::pwm::{ErrorType, SetDutyCycle};
+    ///
+    /// /// A 1000-step timer channel that records the duty.
+    /// struct Channel { duty: u16, enabled: bool }
+    /// impl ErrorType for Channel { type Error = core::convert::Infallible; }
+    /// impl SetDutyCycle for Channel {
+    ///     fn max_duty_cycle(&self) -> u16 { 1000 }
+    ///     fn set_duty_cycle(&mut self, duty: u16) -> Result<(), Self::Error> {
+    ///         self.duty = duty;
+    ///         Ok(())
+    ///     }
+    /// }
+    ///
+    /// let channel = Channel { duty: 0, enabled: false };
+    /// let mut out = PwmForce::new(channel, 2.0, DutyMode::Centered).unwrap();
+    /// assert_eq!(out.full_scale(), 2.0);
+    /// out.inner_mut().enabled = true;
+    /// out.write(1.0).unwrap(); // +F_full/2: 75 %
+    /// let channel = out.release();
+    /// assert_eq!((channel.duty, channel.enabled), (750, true));
+    /// ```
     pub fn full_scale(&self) -> T {
         self.full_scale
     }

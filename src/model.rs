@@ -64,6 +64,18 @@ impl<T: Scalar> Model<T> {
     /// point this rebuilds the S table where the model lives: the way to
     /// build a model on an MCU whose stack cannot hold a copy of it (start
     /// from [`Model::UNIT_COULOMB`](crate::Model::UNIT_COULOMB)).
+    ///
+    /// ```
+    /// use breakaway::{Model, Params, Q16};
+    /// let p = Params { fc: 1.0, fs: 1.5, v_stribeck: 1e-3, delta: 1.0,
+    ///                  sigma: 0.0, z_max: 1e-5, epsilon: 0.0 };
+    /// let mut model = Model::<Q16>::UNIT_COULOMB;
+    /// model.set_params(p).unwrap();
+    /// assert_eq!(model.params(), &p);
+    /// // A rejected set leaves the model as it was.
+    /// assert!(model.set_params(Params { fs: 0.5, ..p }).is_err());
+    /// assert_eq!(model.params().fs, 1.5);
+    /// ```
     pub fn set_params(&mut self, params: Params) -> Result<(), ParamError> {
         let [fc, fs, sigma, inv_z_max, epsilon] = Self::coefficients(&params)?;
         self.curves.rebuild(&params);
@@ -124,7 +136,26 @@ impl<T: Scalar> Model<T> {
         Ok(coefficients)
     }
 
-    /// The units of the model's numbers (SI for `f32`).
+    /// The units of the model's numbers (SI for `f32`). With
+    /// [`velocity`](Self::velocity) and
+    /// [`position_scale`](Self::position_scale), the boundary between SI
+    /// samples and a fixed-point model:
+    ///
+    /// ```
+    /// use breakaway::{Model, Params, Presliding, Scalar, Units, Q16};
+    /// let p = Params { fc: 1.0, fs: 1.5, v_stribeck: 1e-3, delta: 1.0,
+    ///                  sigma: 0.0, z_max: 1e-5, epsilon: 0.0 };
+    /// assert_eq!(Model::<f32>::new(p).unwrap().units(), Units::SI);
+    /// let model = Model::<Q16>::new(p).unwrap();
+    /// let units = model.units(); // forces in Fc, velocities in V
+    /// let v = model.velocity(2e-3).unwrap(); // 2 mm/s = 2·V
+    /// assert!((v.to_f32() - 2.0).abs() < 1e-4);
+    /// // 10 nm encoder counts as the position type of presliding.
+    /// let scale = model.position_scale::<i32>(1e-8).unwrap();
+    /// let mut axis = Presliding::<i32, Q16>::new(0, scale).unwrap();
+    /// let force = axis.update(&model, 500, v).unwrap(); // 5 µm = z_max/2
+    /// assert!(force.to_f32() * units.force > 0.5);
+    /// ```
     pub fn units(&self) -> Units {
         self.units
     }
@@ -151,6 +182,15 @@ impl<T: Scalar> Model<T> {
 
     /// Stribeck magnitude S(v) [N] at velocity `v` [m/s] ([Stribeck
     /// curve](crate::model_overview#stribeck-curve)).
+    ///
+    /// ```
+    /// # use breakaway::{Model, Params};
+    /// let p = Params { fc: 1.0, fs: 1.5, v_stribeck: 1e-3, delta: 1.0,
+    ///                  sigma: 0.2, z_max: 1e-5, epsilon: 0.0 };
+    /// let model = Model::<f32>::new(p).unwrap();
+    /// assert!((model.stribeck(0.0) - 1.5).abs() < 1e-5); // Fs at rest
+    /// assert!((model.stribeck(-1.0) - 1.0).abs() < 1e-5); // Fc far out, either way
+    /// ```
     #[inline]
     pub fn stribeck(&self, v: T) -> T {
         self.curves.stribeck(v)
@@ -158,6 +198,16 @@ impl<T: Scalar> Model<T> {
 
     /// Steady-state friction F_ss(v) = sgn(v)·S(v) + σ·v [N] ([Stribeck
     /// curve](crate::model_overview#stribeck-curve)); F_ss(0) = 0.
+    ///
+    /// ```
+    /// # use breakaway::{Model, Params};
+    /// let p = Params { fc: 1.0, fs: 1.5, v_stribeck: 1e-3, delta: 1.0,
+    ///                  sigma: 0.2, z_max: 1e-5, epsilon: 0.0 };
+    /// let model = Model::<f32>::new(p).unwrap();
+    /// assert_eq!(model.steady_state(0.0), 0.0);
+    /// assert!((model.steady_state(1.0) - 1.2).abs() < 1e-5); // Fc + σ·v
+    /// assert!((model.steady_state(-1.0) + 1.2).abs() < 1e-5);
+    /// ```
     #[inline]
     pub fn steady_state(&self, v: T) -> T {
         let viscous = (self.sigma * v).saturate();
@@ -172,6 +222,16 @@ impl<T: Scalar> Model<T> {
 
     /// Presliding shape g(w) = w·(1 − ln w), clamped to [0, 1]
     /// ([presliding](crate::model_overview#presliding)).
+    ///
+    /// ```
+    /// # use breakaway::{Model, Params};
+    /// let p = Params { fc: 1.0, fs: 1.5, v_stribeck: 1e-3, delta: 1.0,
+    ///                  sigma: 0.2, z_max: 1e-5, epsilon: 0.0 };
+    /// let model = Model::<f32>::new(p).unwrap();
+    /// assert_eq!(model.shape(0.0), 0.0);
+    /// assert!((model.shape(1.0) - 1.0).abs() < 1e-6);
+    /// assert!((model.shape(0.5) - 0.8466).abs() < 1e-4); // 0.5·(1 + ln 2)
+    /// ```
     #[inline]
     pub fn shape(&self, w: T) -> T {
         self.curves.shape(w)

@@ -33,7 +33,19 @@ pub struct Params {
 
 impl Params {
     /// Checks every rule of the [model](crate::model_overview#parameters) and
-    /// returns the first violation, in the order of the fields.
+    /// returns the first violation, in the order of the fields; the error
+    /// names the parameter and its key in a model file.
+    ///
+    /// ```
+    /// use breakaway::{Param, ParamError, Params};
+    /// let p = Params { fc: 1.0, fs: 1.5, v_stribeck: 1e-3, delta: 1.0,
+    ///                  sigma: 0.0, z_max: 1e-5, epsilon: 0.0 };
+    /// assert_eq!(p.validate(), Ok(()));
+    /// let e = Params { sigma: -0.1, delta: f32::NAN, ..p }.validate().unwrap_err();
+    /// assert_eq!(e, ParamError::NotFinite(Param::Delta)); // δ comes before σ
+    /// assert_eq!(e.param(), Param::Delta);
+    /// assert_eq!(e.param().key(), "delta");
+    /// ```
     pub fn validate(&self) -> Result<(), ParamError> {
         let fields = [
             (Param::Fc, self.fc),

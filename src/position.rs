@@ -44,63 +44,57 @@ fn float_scale(units: f32) -> Option<f32> {
     (units.is_finite() && units > 0.0).then_some(units)
 }
 
-impl Position<f32> for f32 {
-    type Scale = f32;
-    #[inline(always)]
-    fn is_valid(self) -> bool {
-        self.is_finite()
-    }
-    fn scale(units: f32) -> Option<f32> {
-        float_scale(units)
-    }
-    fn is_valid_scale(scale: f32) -> bool {
-        float_scale(scale).is_some()
-    }
-    #[inline(always)]
-    fn travel_from(self, origin: Self, metres_per_unit: f32) -> f32 {
-        ((self - origin) * metres_per_unit).saturate()
-    }
+/// `Position<f32>` for a sample type with an `f32` scale [m per unit]:
+/// `valid` tells a usable sample, `travel` the travel in metres from
+/// `origin` to the sample given the scale `m`.
+macro_rules! position_f32 {
+    (
+        $(#[$doc:meta])* $ty:ty,
+        valid: |$v:ident| $valid:expr,
+        travel: |$x:ident, $origin:ident, $m:ident| $travel:expr $(,)?
+    ) => {
+        $(#[$doc])*
+        impl Position<f32> for $ty {
+            type Scale = f32;
+            #[inline(always)]
+            fn is_valid(self) -> bool {
+                let $v = self;
+                $valid
+            }
+            fn scale(units: f32) -> Option<f32> {
+                float_scale(units)
+            }
+            fn is_valid_scale(scale: f32) -> bool {
+                float_scale(scale).is_some()
+            }
+            #[inline(always)]
+            fn travel_from(self, $origin: Self, $m: f32) -> f32 {
+                let $x = self;
+                $travel
+            }
+        }
+    };
 }
 
-impl Position<f32> for i32 {
-    type Scale = f32;
-    #[inline(always)]
-    fn is_valid(self) -> bool {
-        true
-    }
-    fn scale(units: f32) -> Option<f32> {
-        float_scale(units)
-    }
-    fn is_valid_scale(scale: f32) -> bool {
-        float_scale(scale).is_some()
-    }
-    #[inline(always)]
-    fn travel_from(self, origin: Self, metres_per_unit: f32) -> f32 {
-        self.wrapping_sub(origin) as f32 * metres_per_unit
-    }
-}
-
-/// As for `i32`, the difference is taken on the low 32 bits (wrapping), so
-/// two compared positions must lie less than 2³¹ counts apart (21 m at 10 nm
-/// per count). The state machine only compares a sample with the extremum
-/// and the turning points of a branch that has not reached gross sliding,
-/// all within z_max + ε plus one sample's travel: the requirement is that
-/// consecutive samples differ by less than 2³¹ counts. A 64-bit absolute
-/// count therefore stays exact over any travel at the cost of a 32-bit one.
-impl Position<f32> for i64 {
-    type Scale = f32;
-    #[inline(always)]
-    fn is_valid(self) -> bool {
-        true
-    }
-    fn scale(units: f32) -> Option<f32> {
-        float_scale(units)
-    }
-    fn is_valid_scale(scale: f32) -> bool {
-        float_scale(scale).is_some()
-    }
-    #[inline(always)]
-    fn travel_from(self, origin: Self, metres_per_unit: f32) -> f32 {
-        (self as i32).wrapping_sub(origin as i32) as f32 * metres_per_unit
-    }
-}
+position_f32!(
+    f32,
+    valid: |x| x.is_finite(),
+    travel: |x, origin, m| ((x - origin) * m).saturate(),
+);
+position_f32!(
+    i32,
+    valid: |_x| true,
+    travel: |x, origin, m| x.wrapping_sub(origin) as f32 * m,
+);
+position_f32!(
+    /// As for `i32`, the difference is taken on the low 32 bits (wrapping), so
+    /// two compared positions must lie less than 2³¹ counts apart (21 m at 10 nm
+    /// per count). The state machine only compares a sample with the extremum
+    /// and the turning points of a branch that has not reached gross sliding,
+    /// all within z_max + ε plus one sample's travel: the requirement is that
+    /// consecutive samples differ by less than 2³¹ counts. A 64-bit absolute
+    /// count therefore stays exact over any travel at the cost of a 32-bit one.
+    i64,
+    valid: |_x| true,
+    travel: |x, origin, m| (x as i32).wrapping_sub(origin as i32) as f32 * m,
+);

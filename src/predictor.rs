@@ -87,6 +87,12 @@ impl Variant {
     ];
 
     /// The variant's name as written in reports and on the command line.
+    ///
+    /// ```
+    /// use breakaway::Variant;
+    /// let names = Variant::ALL.map(Variant::name);
+    /// assert_eq!(names, ["coulomb", "stiction", "mean", "consistent"]);
+    /// ```
     pub const fn name(self) -> &'static str {
         match self {
             Variant::Coulomb => "coulomb",
@@ -286,6 +292,17 @@ impl BreakAwayPredictor<f32> {
     /// The paper's phase curve: the presliding velocity v(w) [m/s] at
     /// normalised travel `w` in (0, 1) under the force rate `k` [N/s]
     /// (paper eq. 12 with z_max; `Consistent` solves F̂ = S(v(w))).
+    ///
+    /// ```
+    /// use breakaway::{BreakAwayPredictor, Model, Params, PredictError, Variant};
+    /// let p = Params { fc: 1.0, fs: 1.5, v_stribeck: 1e-3, delta: 1.0,
+    ///                  sigma: 0.0, z_max: 1e-5, epsilon: 0.0 };
+    /// let model = Model::<f32>::new(p).unwrap();
+    /// let phase = |w| BreakAwayPredictor::phase_velocity(&model, Variant::Mean, 10.0, w);
+    /// // The presliding velocity grows along the travel.
+    /// assert!(phase(0.2).unwrap() < phase(0.8).unwrap());
+    /// assert_eq!(phase(1.0), Err(PredictError::InvalidTravel));
+    /// ```
     pub fn phase_velocity(
         model: &Model<f32>,
         variant: Variant,

@@ -64,21 +64,13 @@ pub trait Scalar:
     /// |self|.
     #[inline(always)]
     fn abs(self) -> Self {
-        if self < Self::ZERO {
-            -self
-        } else {
-            self
-        }
+        negated_if(self, self < Self::ZERO)
     }
 
     /// `self`·`sign` for `sign` = ±1: −`self` for a negative `sign`.
     #[inline(always)]
     fn signed(self, sign: Self) -> Self {
-        if sign < Self::ZERO {
-            -self
-        } else {
-            self
-        }
+        negated_if(self, sign < Self::ZERO)
     }
 
     /// `self`·`rhs` where the caller knows the exact product to be far
@@ -216,5 +208,16 @@ fn overflowed(x: f32) -> f32 {
         -f32::MAX
     } else {
         0.0
+    }
+}
+
+/// −`x` when `negative`, else `x`: the one branch of [`Scalar::abs`] and
+/// [`Scalar::signed`].
+#[inline(always)]
+fn negated_if<T: Scalar>(x: T, negative: bool) -> T {
+    if negative {
+        -x
+    } else {
+        x
     }
 }

@@ -16,7 +16,7 @@
 //! the host benchmark's), then per run `cl <name> <encoder m> <rms_error m>
 //! <peak_reversal_error m> <rms_effort N>`.
 
-use breakaway::compensation::{VelocityConfig, VelocityEstimator};
+use breakaway::compensation::{ObserverConfig, StictionConfig, VelocityConfig, VelocityEstimator};
 use breakaway::{Model, Params, Presliding};
 use cortex_m_semihosting::hprintln;
 
@@ -48,6 +48,26 @@ const PLANT: Params = Params {
     sigma: 0.0,
     z_max: 1.3e-5,
     epsilon: 0.0,
+};
+
+/// The disturbance observer of the benchmark's compensators.
+pub const OBSERVER: ObserverConfig = ObserverConfig {
+    mass: MASS,
+    bandwidth: OBSERVER_BANDWIDTH,
+    period: PERIOD,
+};
+
+/// The stiction adaptation of the benchmark's compensators (its speed
+/// threshold the compensator's Stribeck velocity).
+pub const ADAPTATION: StictionConfig = StictionConfig {
+    rate: ADAPTATION_RATE,
+    reversal_gain: REVERSAL_GAIN,
+    bandwidth: OBSERVER_BANDWIDTH,
+    min_scale: 0.5,
+    max_scale: 2.0,
+    max_stiction_scale: 3.0,
+    min_speed: crate::common::FIG5.v_stribeck,
+    period: PERIOD,
 };
 
 /// What a compensator sees in period `n`.

@@ -14,6 +14,25 @@ mod support;
 #[allow(unused_imports)]
 pub use support::{Strokes, FIG5, LONG_RUN};
 
+use breakaway::{Model, Params, Presliding, Scalar};
+
+/// The model of `params`, or the end of the run.
+#[allow(dead_code)]
+pub fn model<T: Scalar>(params: Params) -> Model<T> {
+    Model::new(params).unwrap_or_else(|_| exit_failure("invalid parameters"))
+}
+
+/// Two axes read in `i64` counts of `count` metres from count 0: one with a
+/// single turning point and one that closes up to eight minor loops; or the
+/// end of the run.
+#[allow(dead_code)]
+pub fn presliding_pair(count: f32) -> (Presliding<i64>, Presliding<i64, f32, 8>) {
+    match (Presliding::new(0, count), Presliding::new(0, count)) {
+        (Ok(single), Ok(closing)) => (single, closing),
+        _ => exit_failure("invalid scale"),
+    }
+}
+
 /// Position in encoder counts at sample `n` (1 ms period) of the reversal
 /// trajectory of `presliding_loop` and `fixed_point`: a 1.6·z_max stroke
 /// (z_max = 1000 counts of 10 nm) with 0.3·z_max ripples at 7.3 times the

@@ -124,15 +124,18 @@ impl Draw {
     }
 }
 
-fn lu(rng: &mut ChaCha8Rng, a: f64, b: f64) -> f64 {
+/// Log-uniform in [a, b].
+pub(crate) fn lu(rng: &mut ChaCha8Rng, a: f64, b: f64) -> f64 {
     (rng.gen_range(a.ln()..=b.ln())).exp()
 }
 
-fn uni(rng: &mut ChaCha8Rng, a: f64, b: f64) -> f64 {
+/// Uniform in [a, b].
+pub(crate) fn uni(rng: &mut ChaCha8Rng, a: f64, b: f64) -> f64 {
     rng.gen_range(a..=b)
 }
 
-fn sign(rng: &mut ChaCha8Rng) -> f64 {
+/// ±1 with equal odds.
+pub(crate) fn sign(rng: &mut ChaCha8Rng) -> f64 {
     if rng.gen_bool(0.5) {
         1.0
     } else {
@@ -235,7 +238,7 @@ pub fn draw(seed: u64, attempt: u32, kind: Kind, ov: &Overrides) -> Result<Draw,
         }
         if !plant.supports(*e) {
             return Err(format!(
-                "effect `{}` needs the MODEL.md presliding law; plant `{}` does not carry it",
+                "effect `{}` needs the presliding law of the `model` plant; plant `{}` does not carry it",
                 e.name(),
                 plant.name()
             ));

@@ -17,6 +17,7 @@
 //!
 //! Units: [m], [m/s], [N], [s], [kg].
 
+use crate::draw::{lu, sign, uni};
 use crate::plants::{Plant, DT};
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
@@ -185,22 +186,6 @@ pub enum Seg {
         /// Number of cycles.
         cycles: f64,
     },
-}
-
-fn lu(rng: &mut ChaCha8Rng, a: f64, b: f64) -> f64 {
-    (rng.gen_range(a.ln()..=b.ln())).exp()
-}
-
-fn uni(rng: &mut ChaCha8Rng, a: f64, b: f64) -> f64 {
-    rng.gen_range(a..=b)
-}
-
-fn sign(rng: &mut ChaCha8Rng) -> f64 {
-    if rng.gen_bool(0.5) {
-        1.0
-    } else {
-        -1.0
-    }
 }
 
 /// Longest distance of one plateau [m].

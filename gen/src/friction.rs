@@ -228,6 +228,23 @@ pub struct Model {
 }
 
 impl Model {
+    /// The paper's setting with δ = 2 (m = 1 kg, Fc = 1 N, Fs = 1.5 N,
+    /// V = 1 mm/s, z_max = 10 µm, no effects): the tests' fixture.
+    pub fn paper() -> Model {
+        Model {
+            p: Params {
+                mass: 1.0,
+                fc: 1.0,
+                fs: 1.5,
+                v_stribeck: 1e-3,
+                delta: 2.0,
+                sigma: 0.0,
+                z_max: 1e-5,
+            },
+            e: Effects::default(),
+        }
+    }
+
     /// True when `effect` is present (for `viscous`: `σ > 0`).
     pub fn has(&self, effect: Effect) -> bool {
         match effect {
@@ -553,18 +570,7 @@ mod tests {
     use super::*;
 
     fn base() -> Model {
-        Model {
-            p: Params {
-                mass: 1.0,
-                fc: 1.0,
-                fs: 1.5,
-                v_stribeck: 1e-3,
-                delta: 2.0,
-                sigma: 0.0,
-                z_max: 1e-5,
-            },
-            e: Effects::default(),
-        }
+        Model::paper()
     }
 
     #[test]

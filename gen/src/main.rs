@@ -30,7 +30,7 @@ use std::time::Instant;
 #[command(
     name = "breakaway-gen",
     version,
-    about = "Independent generator of friction test records (MODEL.md §6 CSV + §7 truth)"
+    about = "Independent generator of friction test records (CSV records and TOML truth models, as breakaway-lab reads them)"
 )]
 struct Cli {
     #[command(subcommand)]
@@ -164,22 +164,31 @@ fn parse_effects(s: &str) -> Result<(Vec<Effect>, bool), Usage> {
     Ok((out, absent))
 }
 
+/// The `what` called `name`, or a usage error listing the `names`.
+fn by_name<T>(
+    what: &str,
+    name: &str,
+    from_name: impl Fn(&str) -> Option<T>,
+    names: &[&str],
+) -> Result<T, Usage> {
+    from_name(name).ok_or_else(|| {
+        Usage(format!(
+            "unknown {what} `{name}` (expected {})",
+            names.join(", ")
+        ))
+    })
+}
+
 fn summary_line(g: &Generated, secs: f64) -> String {
     let d = &g.draw;
-    let vis = if d.hidden.is_empty() {
+    let vis = g.visibilities(",").unwrap_or_else(|| {
         if d.stribeck_absent {
-            "stribeck-absent".to_string()
+            "stribeck-absent"
         } else {
-            "-".to_string()
+            "-"
         }
-    } else {
-        d.hidden
-            .iter()
-            .zip(&g.visibility)
-            .map(|(e, v)| format!("{}={:.1}", e.name(), v))
-            .collect::<Vec<_>>()
-            .join(",")
-    };
+        .to_string()
+    });
     format!(
         "{:<44} {:<15} {:<14} {:<40} Π={:<6.2} noise={:.3e} N  {:.2} s",
         g.name(),
@@ -204,20 +213,12 @@ fn record_cmd(
     let kind = parse_kind(kind)?;
     let mut ov = Overrides::default();
     if let Some(f) = family {
-        ov.family = Some(Family::from_name(&f).ok_or_else(|| {
-            Usage(format!(
-                "unknown family `{f}` (expected {})",
-                Family::ALL.map(|f| f.name()).join(", ")
-            ))
-        })?);
+        let names = Family::ALL.map(|f| f.name());
+        ov.family = Some(by_name("family", &f, Family::from_name, &names)?);
     }
     if let Some(p) = plant {
-        ov.plant = Some(PlantKind::from_name(&p).ok_or_else(|| {
-            Usage(format!(
-                "unknown plant `{p}` (expected {})",
-                PlantKind::ALL.map(|p| p.name()).join(", ")
-            ))
-        })?);
+        let names = PlantKind::ALL.map(|p| p.name());
+        ov.plant = Some(by_name("plant", &p, PlantKind::from_name, &names)?);
     }
     if let Some(e) = effects {
         let (list, absent) = parse_effects(&e)?;

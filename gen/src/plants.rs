@@ -222,6 +222,35 @@ fn out_vars(main: Model, hidden: &[Effect], n_states: usize) -> Vec<OutVar> {
     v
 }
 
+/// One step of a law with internal states: the direction `dir` follows
+/// the velocity `v`, `dry(i, var, |v|, dir)` advances the states and the dry
+/// part of the main model (`i` = 0) and of each variant that has its own;
+/// returns the main model's force at `x` and writes the variants'
+/// differences to `diffs`.
+fn step_vars(
+    vars: &mut [OutVar],
+    dir: &mut f64,
+    x: f64,
+    v: f64,
+    diffs: Option<&mut [f64]>,
+    mut dry: impl FnMut(usize, &mut OutVar, f64, f64),
+) -> f64 {
+    if v != 0.0 {
+        *dir = sgn(v);
+    }
+    let speed = v.abs();
+    for (i, var) in vars.iter_mut().enumerate() {
+        if i > 0 && !var.own {
+            continue;
+        }
+        dry(i, var, speed, *dir);
+    }
+    if let Some(d) = diffs {
+        out_diffs(vars, x, v, d);
+    }
+    vars[0].dry + vars[0].model.static_terms(x)
+}
+
 fn out_diffs(vars: &[OutVar], x: f64, v: f64, diffs: &mut [f64]) {
     let main = &vars[0];
     let full = main.dry + main.model.static_terms(x) + main.model.viscous_terms(v);
@@ -256,35 +285,33 @@ impl LugreLaw {
 
 impl Law for LugreLaw {
     fn step(&mut self, x: f64, v: f64, t: f64, h: f64, diffs: Option<&mut [f64]>) -> f64 {
-        if v != 0.0 {
-            self.dir = sgn(v);
-        }
-        let speed = v.abs();
+        let (sigma0, sigma1) = (self.sigma0, self.sigma1);
         let mut gross = false;
-        for (i, var) in self.vars.iter_mut().enumerate() {
-            if i > 0 && !var.own {
-                continue;
-            }
-            let s = var.model.s(speed, self.dir, t, 0.0);
-            let z = var.z[0];
-            let a = self.sigma0 * speed / s;
-            let z_new = if a * h < 1e-9 {
-                z + v * h
-            } else {
-                let z_eq = v / a;
-                z_eq + (z - z_eq) * (-a * h).exp()
-            };
-            var.dry = self.sigma0 * z + self.sigma1 * (z_new - z) / h;
-            var.z[0] = z_new;
-            if i == 0 {
-                gross = self.sigma0 * z_new.abs() > 0.95 * s;
-            }
-        }
+        let f = step_vars(
+            &mut self.vars,
+            &mut self.dir,
+            x,
+            v,
+            diffs,
+            |i, var, speed, dir| {
+                let s = var.model.s(speed, dir, t, 0.0);
+                let z = var.z[0];
+                let a = sigma0 * speed / s;
+                let z_new = if a * h < 1e-9 {
+                    z + v * h
+                } else {
+                    let z_eq = v / a;
+                    z_eq + (z - z_eq) * (-a * h).exp()
+                };
+                var.dry = sigma0 * z + sigma1 * (z_new - z) / h;
+                var.z[0] = z_new;
+                if i == 0 {
+                    gross = sigma0 * z_new.abs() > 0.95 * s;
+                }
+            },
+        );
         self.gross = gross;
-        if let Some(d) = diffs {
-            out_diffs(&self.vars, x, v, d);
-        }
-        self.vars[0].dry + self.vars[0].model.static_terms(x)
+        f
     }
     fn gross(&self) -> bool {
         self.gross
@@ -323,39 +350,37 @@ impl MaxwellLaw {
 
 impl Law for MaxwellLaw {
     fn step(&mut self, x: f64, v: f64, t: f64, h: f64, diffs: Option<&mut [f64]>) -> f64 {
-        if v != 0.0 {
-            self.dir = sgn(v);
-        }
-        let speed = v.abs();
+        let (k, w0, c) = (&self.k, &self.w0, &self.c);
         let mut all_slip = true;
-        for (i, var) in self.vars.iter_mut().enumerate() {
-            if i > 0 && !var.own {
-                continue;
-            }
-            let scale = var.model.s(speed, self.dir, t, 0.0) / var.model.p.fs;
-            let mut f = 0.0;
-            for (j, z) in var.z.iter_mut().enumerate() {
-                let zt = *z + v * h;
-                let w = self.w0[j] * scale;
-                let k = self.k[j];
-                if (k * zt).abs() > w {
-                    *z = sgn(zt) * w / k;
-                } else {
-                    *z = zt;
-                    f += self.c[j] * v;
-                    if i == 0 {
-                        all_slip = false;
+        let force = step_vars(
+            &mut self.vars,
+            &mut self.dir,
+            x,
+            v,
+            diffs,
+            |i, var, speed, dir| {
+                let scale = var.model.s(speed, dir, t, 0.0) / var.model.p.fs;
+                let mut f = 0.0;
+                for (j, z) in var.z.iter_mut().enumerate() {
+                    let zt = *z + v * h;
+                    let w = w0[j] * scale;
+                    let k = k[j];
+                    if (k * zt).abs() > w {
+                        *z = sgn(zt) * w / k;
+                    } else {
+                        *z = zt;
+                        f += c[j] * v;
+                        if i == 0 {
+                            all_slip = false;
+                        }
                     }
+                    f += k * *z;
                 }
-                f += k * *z;
-            }
-            var.dry = f;
-        }
+                var.dry = f;
+            },
+        );
         self.all_slip = all_slip;
-        if let Some(d) = diffs {
-            out_diffs(&self.vars, x, v, d);
-        }
-        self.vars[0].dry + self.vars[0].model.static_terms(x)
+        force
     }
     fn gross(&self) -> bool {
         self.all_slip
@@ -503,29 +528,47 @@ fn big_allowed(gross: bool, v: f64, acc: f64, v_s: f64) -> bool {
     gross && v.abs() > 3.0 * v_s && h * acc < 0.2 * v.abs()
 }
 
+/// The sub-steps of the interval after sample `sample`: `step(t, h,
+/// diffs)` advances a plant from time `t` [s] by `h` [s] (`diffs` on the
+/// first only) and tells whether the next may be a big one (`big` for the
+/// first); the others are `small` ticks.
+fn sub_steps(
+    sample: u64,
+    small: u32,
+    mut big: bool,
+    diffs: &mut [f64],
+    mut step: impl FnMut(f64, f64, Option<&mut [f64]>) -> bool,
+) {
+    let mut tick = 0u32;
+    let t0 = sample as f64 * DT;
+    while tick < TICKS_PER_SAMPLE {
+        let left = TICKS_PER_SAMPLE - tick;
+        let n = if big {
+            BIG_STEP.min(left)
+        } else {
+            small.min(left)
+        };
+        let h = f64::from(n) * TICK;
+        let t = t0 + f64::from(tick) * TICK;
+        let d = if tick == 0 { Some(&mut *diffs) } else { None };
+        big = step(t, h, d);
+        tick += n;
+    }
+}
+
 impl<L: Law> Plant for MassPlant<L> {
     fn interval(&mut self, u: f64, diffs: &mut [f64]) {
-        let mut tick = 0u32;
-        let t0 = self.sample as f64 * DT;
         let v_s = self.law.model().p.v_stribeck;
-        while tick < TICKS_PER_SAMPLE {
-            let left = TICKS_PER_SAMPLE - tick;
-            let n = if big_allowed(self.law.gross(), self.v, self.acc, v_s) {
-                BIG_STEP.min(left)
-            } else {
-                self.small.min(left)
-            };
-            let h = f64::from(n) * TICK;
-            let t = t0 + f64::from(tick) * TICK;
-            let d = if tick == 0 { Some(&mut *diffs) } else { None };
+        let big = big_allowed(self.law.gross(), self.v, self.acc, v_s);
+        sub_steps(self.sample, self.small, big, diffs, |t, h, d| {
             let f = self.law.step(self.x, self.v, t, h, d);
             let vp = self.v + h * (u - f) / self.mass;
             let v_new = implicit_velocity(self.law.model(), self.v, vp, h / self.mass);
             self.acc = ((v_new - self.v) / h).abs();
             self.v = v_new;
             self.x += h * v_new;
-            tick += n;
-        }
+            big_allowed(self.law.gross(), self.v, self.acc, v_s)
+        });
         self.sample += 1;
     }
     fn encoder(&self) -> f64 {
@@ -580,19 +623,9 @@ impl<L: Law> TwoMassPlant<L> {
 
 impl<L: Law> Plant for TwoMassPlant<L> {
     fn interval(&mut self, u: f64, diffs: &mut [f64]) {
-        let mut tick = 0u32;
-        let t0 = self.sample as f64 * DT;
         let v_s = self.law.model().p.v_stribeck;
-        while tick < TICKS_PER_SAMPLE {
-            let left = TICKS_PER_SAMPLE - tick;
-            let n = if big_allowed(self.law.gross(), self.v2, self.acc, v_s) {
-                BIG_STEP.min(left)
-            } else {
-                self.small.min(left)
-            };
-            let h = f64::from(n) * TICK;
-            let t = t0 + f64::from(tick) * TICK;
-            let d = if tick == 0 { Some(&mut *diffs) } else { None };
+        let big = big_allowed(self.law.gross(), self.v2, self.acc, v_s);
+        sub_steps(self.sample, self.small, big, diffs, |t, h, d| {
             let f = self.law.step(self.x2, self.v2, t, h, d);
             let fsp = self.k * (self.x1 - self.x2) + self.c * (self.v1 - self.v2);
             self.v1 += h * (u - fsp) / self.m1;
@@ -602,8 +635,8 @@ impl<L: Law> Plant for TwoMassPlant<L> {
             self.v2 = v2;
             self.x1 += h * self.v1;
             self.x2 += h * self.v2;
-            tick += n;
-        }
+            big_allowed(self.law.gross(), self.v2, self.acc, v_s)
+        });
         self.sample += 1;
     }
     fn encoder(&self) -> f64 {

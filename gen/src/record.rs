@@ -71,6 +71,20 @@ pub struct Generated {
 }
 
 impl Generated {
+    /// `effect=visibility` per hidden effect joined by `sep`; `None` when
+    /// no effect is hidden.
+    pub fn visibilities(&self, sep: &str) -> Option<String> {
+        let d = &self.draw;
+        (!d.hidden.is_empty()).then(|| {
+            d.hidden
+                .iter()
+                .zip(&self.visibility)
+                .map(|(e, v)| format!("{}={:.1}", e.name(), v))
+                .collect::<Vec<_>>()
+                .join(sep)
+        })
+    }
+
     /// Record name `s<seed>_<family>[_<plant>]_<effects|null>`.
     pub fn name(&self) -> String {
         let d = &self.draw;
@@ -92,59 +106,32 @@ impl Generated {
     }
 }
 
-/// The parameter of `e` that its force is (about) linear in, or `τ_L`.
-pub fn param(m: &Model, e: Effect) -> f64 {
+/// The parameter of `e` that its force is (about) linear in, or `τ_L`;
+/// `None` when the effect is absent.
+fn param_mut(m: &mut Model, e: Effect) -> Option<&mut f64> {
+    let t = &mut m.e;
     match e {
-        Effect::Viscous => m.p.sigma,
-        Effect::Offset => m.e.offset.map_or(0.0, |o| o.f0),
-        Effect::Asymmetry => m.e.asymmetry.map_or(0.0, |a| a.a),
-        Effect::PositionRipple => m.e.position_ripple.map_or(0.0, |r| r.amplitude),
-        Effect::DwellStiction => m.e.dwell_stiction.map_or(0.0, |d| d.delta_fs),
-        Effect::FrictionalLag => m.e.frictional_lag.map_or(0.0, |l| l.tau_l),
-        Effect::Drift => m.e.drift.map_or(0.0, |d| d.beta),
-        Effect::NonlinearViscous => m.e.nonlinear_viscous.map_or(0.0, |n| n.sigma_n),
+        Effect::Viscous => Some(&mut m.p.sigma),
+        Effect::Offset => t.offset.as_mut().map(|o| &mut o.f0),
+        Effect::Asymmetry => t.asymmetry.as_mut().map(|a| &mut a.a),
+        Effect::PositionRipple => t.position_ripple.as_mut().map(|r| &mut r.amplitude),
+        Effect::DwellStiction => t.dwell_stiction.as_mut().map(|d| &mut d.delta_fs),
+        Effect::FrictionalLag => t.frictional_lag.as_mut().map(|l| &mut l.tau_l),
+        Effect::Drift => t.drift.as_mut().map(|d| &mut d.beta),
+        Effect::NonlinearViscous => t.nonlinear_viscous.as_mut().map(|n| &mut n.sigma_n),
     }
 }
 
-/// Sets the parameter of [`param`].
+/// The parameter of `e` that its force is (about) linear in, or `τ_L`
+/// (0 when the effect is absent).
+pub fn param(m: &Model, e: Effect) -> f64 {
+    param_mut(&mut m.clone(), e).map_or(0.0, |x| *x)
+}
+
+/// Sets the parameter of [`param`] (nothing when the effect is absent).
 pub fn set_param(m: &mut Model, e: Effect, v: f64) {
-    match e {
-        Effect::Viscous => m.p.sigma = v,
-        Effect::Offset => {
-            if let Some(o) = m.e.offset.as_mut() {
-                o.f0 = v;
-            }
-        }
-        Effect::Asymmetry => {
-            if let Some(a) = m.e.asymmetry.as_mut() {
-                a.a = v;
-            }
-        }
-        Effect::PositionRipple => {
-            if let Some(r) = m.e.position_ripple.as_mut() {
-                r.amplitude = v;
-            }
-        }
-        Effect::DwellStiction => {
-            if let Some(d) = m.e.dwell_stiction.as_mut() {
-                d.delta_fs = v;
-            }
-        }
-        Effect::FrictionalLag => {
-            if let Some(l) = m.e.frictional_lag.as_mut() {
-                l.tau_l = v;
-            }
-        }
-        Effect::Drift => {
-            if let Some(d) = m.e.drift.as_mut() {
-                d.beta = v;
-            }
-        }
-        Effect::NonlinearViscous => {
-            if let Some(n) = m.e.nonlinear_viscous.as_mut() {
-                n.sigma_n = v;
-            }
-        }
+    if let Some(x) = param_mut(m, e) {
+        *x = v;
     }
 }
 

@@ -102,16 +102,7 @@ pub fn comment(g: &Generated) -> String {
             jitter_prob
         ),
     };
-    let vis = if d.hidden.is_empty() {
-        "none".to_string()
-    } else {
-        d.hidden
-            .iter()
-            .zip(&g.visibility)
-            .map(|(e, v)| format!("{}={:.1}", e.name(), v))
-            .collect::<Vec<_>>()
-            .join(", ")
-    };
+    let vis = g.visibilities(", ").unwrap_or_else(|| "none".to_string());
     format!(
         "# {}: hidden effects: {hidden}{absent}; plant: {plant}; family: {}; force noise std {:.3e} N; encoder {:e} m; visibility: {vis}",
         g.name(),

@@ -3,22 +3,11 @@
 
 use breakaway_gen::friction::{
     g, stribeck, Asymmetry, Drift, DwellStiction, Effect, Effects, FrictionalLag, Model,
-    ModelFriction, NonlinearViscous, Offset, Params, PositionRipple,
+    ModelFriction, NonlinearViscous, Offset, PositionRipple,
 };
 
 fn paper() -> Model {
-    Model {
-        p: Params {
-            mass: 1.0,
-            fc: 1.0,
-            fs: 1.5,
-            v_stribeck: 1e-3,
-            delta: 2.0,
-            sigma: 0.0,
-            z_max: 1e-5,
-        },
-        e: Effects::default(),
-    }
+    Model::paper()
 }
 
 #[test]

@@ -20,7 +20,7 @@ use std::path::PathBuf;
 pub const DEFAULT_VALIDITY_K: &str = "0.01,0.03,0.1,0.3,1,3,10,30";
 /// Default `--masses` of `validity-map`.
 pub const DEFAULT_MASSES: &str = "0.1,1,10";
-/// Default presliding boundary `w_b` (MODEL.md §4, the paper's `z_0.95`).
+/// Default presliding boundary `w_b` (the break-away predictor's, the paper's `z_0.95`).
 pub const DEFAULT_WB: f64 = 0.95;
 /// Most points a number list may expand to.
 pub const MAX_POINTS: usize = 100_000;
@@ -31,9 +31,11 @@ pub const WINDOW_RANGE: std::ops::RangeInclusive<u64> = 2..=64;
 #[derive(Clone, Debug, Parser)]
 #[command(
     name = "breakaway-lab",
-    about = "Command-line front of the breakaway f64 reference model (MODEL.md)",
+    about = "Command-line front of the breakaway f64 reference model",
     after_help = "The discrepancy workflow (diagnose, fit, validate, synth, static-curve): \
-                  see `breakaway-lab diagnose --help` and lab/README.md.",
+                  see `breakaway-lab diagnose --help` and lab/README.md (also the data and \
+                  model file formats). The equations: the `model_overview` page of the \
+                  breakaway crate's documentation.",
     arg_required_else_help = false,
     disable_help_subcommand = true
 )]
@@ -46,7 +48,7 @@ pub struct Cli {
 /// A sub-command with its arguments.
 #[derive(Clone, Debug, Subcommand)]
 pub enum Command {
-    /// Quasi-static break-away force F_ba(k) under the ramp u = k*t (MODEL.md §4).
+    /// Quasi-static break-away force F_ba(k) under the ramp u = k*t.
     ///
     /// For each F̂ variant and force rate k: the break-away velocity v_b,
     /// force F_ba and time t_ba; --dynamic adds the full-dynamics simulation
@@ -56,7 +58,8 @@ pub enum Command {
     /// Quasi-static vs full dynamics over masses x force rates.
     ///
     /// With the inertia number Λ = m*k^2*z_max/(F̂^3*w_b*|ln w_b|^3)
-    /// (F̂ = (Fc+Fs)/2, MODEL.md §4) and Π = sqrt(2*Fs*z_max/m)/V (MODEL.md §8).
+    /// (F̂ = (Fc+Fs)/2) and Π = sqrt(2*Fs*z_max/m)/V (rests are quiet below
+    /// about 5).
     /// The model's mass is replaced by each of --masses. --markdown gives one
     /// drift table per variant, k down and m across.
     ValidityMap(ValidityArgs),
@@ -64,16 +67,17 @@ pub enum Command {
     /// measured through an encoder.
     ///
     /// Tracks x_ref = A*(1 - cos 2*pi*f*t) (A = 1 mm, f = 1 Hz) on a LuGre
-    /// plant and on a MODEL.md plant 20-30 % off the compensator; position
-    /// from encoder counts (ideal, 1 um, 0.1 um per count), velocity from
-    /// the library's VelocityEstimator. Compensators none, coulomb,
+    /// plant and on a plant with the crate's friction model, its parameters
+    /// 20-30 % off the compensator's; position from encoder counts (ideal,
+    /// 1 um, 0.1 um per count), velocity from the library's
+    /// VelocityEstimator. Compensators none, coulomb,
     /// stribeck, presliding, each also +observer, and
     /// presliding+observer+adaptation; figures over t in [5 s, 8 s]:
     /// rms_error [m], peak_reversal_error [m] (peak |e| within 50 ms after
     /// each reversal), rms_effort [N]. Also the drift runs (plant Fc, or Fc
     /// and Fs, +20 % at t = 2 s; 1 um encoder).
     ClosedLoop(ClosedLoopArgs),
-    /// Where model and data disagree, and which effect of MODEL.md §5 is missing.
+    /// Where model and data disagree, and which effect of the catalogue is missing.
     ///
     /// Localises the disagreement (regimes, time windows, signals) and names
     /// the missing effect: each candidate added, refitted, scored by BIC on
@@ -82,9 +86,9 @@ pub enum Command {
     /// the base model (Coulomb + Stribeck + presliding, σ = 0) identified
     /// from the data.
     ///
-    /// DATA: CSV with columns t, u, x (optional v), MODEL.md §6, or a .mat
-    /// file in the EMPS layout. The residual is the force along the measured
-    /// motion (MODEL.md §8: compared locally). DATA may also be a
+    /// DATA: CSV with columns t, u, x (optional v), or a .mat file in the
+    /// EMPS layout (lab/README.md, "Input files"). The residual is the force
+    /// along the measured motion (compared locally). DATA may also be a
     /// steady-state record (the Indy7 layout, or CSV columns v, u): diagnose
     /// then fits the steady-state curve and tries the effects visible in it
     /// (viscous, nonlinear_viscous, offset, asymmetry).
@@ -96,13 +100,13 @@ pub enum Command {
     Diagnose(DiagnoseArgs),
     /// The parameters of a model structure (the given model's, or the base model).
     ///
-    /// DATA: CSV with columns t, u, x (optional v), MODEL.md §6, or a .mat
-    /// file in the EMPS layout.
+    /// DATA: CSV with columns t, u, x (optional v), or a .mat file in the
+    /// EMPS layout (lab/README.md, "Input files").
     Fit(FitArgs),
     /// The metric of a fixed model on other data (all samples, per regime).
     ///
-    /// DATA: CSV with columns t, u, x (optional v), MODEL.md §6, or a .mat
-    /// file in the EMPS layout.
+    /// DATA: CSV with columns t, u, x (optional v), or a .mat file in the
+    /// EMPS layout (lab/README.md, "Input files").
     Validate(ValidateArgs),
     /// Synthetic measurements with hidden effects.
     ///
@@ -168,7 +172,7 @@ pub struct BoundaryArg {
 /// Arguments of `breakaway`.
 #[derive(Clone, Debug, Args)]
 pub struct BreakawayArgs {
-    /// Model file, TOML as in MODEL.md §7.
+    /// Model file (TOML, lab/README.md, "Input files").
     #[arg(long, value_name = "FILE")]
     pub model: PathBuf,
     /// Force rates [N/s] > 0: comma-separated numbers and ranges
@@ -192,8 +196,8 @@ pub struct BreakawayArgs {
 /// Arguments of `validity-map`.
 #[derive(Clone, Debug, Args)]
 pub struct ValidityArgs {
-    /// Model file, TOML as in MODEL.md §7 (its mass is replaced by each of
-    /// --masses).
+    /// Model file (TOML, lab/README.md, "Input files"); its mass is replaced
+    /// by each of --masses.
     #[arg(long, value_name = "FILE")]
     pub model: PathBuf,
     /// Masses [kg] > 0: comma-separated numbers and ranges START:STOP:STEP.
@@ -330,7 +334,7 @@ pub struct DiagnoseArgs {
     /// The measurement (see above).
     #[arg(value_name = "DATA")]
     pub data: PathBuf,
-    /// Start model, TOML as in MODEL.md §7.
+    /// Start model (TOML, lab/README.md, "Input files").
     #[arg(long, value_name = "FILE")]
     pub model: Option<PathBuf>,
     /// Write the JSON report to FILE.
@@ -339,10 +343,12 @@ pub struct DiagnoseArgs {
     /// Residual before/after over time and against each localising signal.
     #[arg(long, value_name = "FILE")]
     pub svg: Option<PathBuf>,
-    /// Write the fitted model (TOML, MODEL.md §7).
+    /// Write the fitted model (TOML).
     #[arg(long, value_name = "FILE")]
     pub model_out: Option<PathBuf>,
-    /// Only these catalogue effects (comma list of MODEL.md §5 names).
+    /// Only these catalogue effects, a comma list of: viscous,
+    /// nonlinear_viscous, offset, asymmetry, position_ripple, dwell_stiction,
+    /// frictional_lag, drift, stribeck, presliding.
     #[arg(long, value_name = "LIST", value_parser = parse_candidates)]
     pub candidates: Option<::std::vec::Vec<Effect>>,
     /// `--window K`.
@@ -356,11 +362,11 @@ pub struct FitArgs {
     /// The measurement.
     #[arg(value_name = "DATA")]
     pub data: PathBuf,
-    /// Start model and structure, TOML as in MODEL.md §7 (default: the base
-    /// model identified from the data).
+    /// Start model and structure (TOML; default: the base model identified
+    /// from the data).
     #[arg(long, value_name = "FILE")]
     pub model: Option<PathBuf>,
-    /// Write the fitted model (TOML, MODEL.md §7).
+    /// Write the fitted model (TOML).
     #[arg(long, value_name = "FILE")]
     pub model_out: Option<PathBuf>,
     /// JSON on stdout.
@@ -377,7 +383,7 @@ pub struct ValidateArgs {
     /// The measurement.
     #[arg(value_name = "DATA")]
     pub data: PathBuf,
-    /// The fixed model, TOML as in MODEL.md §7.
+    /// The fixed model (TOML, lab/README.md, "Input files").
     #[arg(long, value_name = "FILE")]
     pub model: PathBuf,
     /// JSON on stdout.
@@ -424,7 +430,7 @@ pub struct SynthArgs {
     /// The CSV to write.
     #[arg(long, value_name = "FILE")]
     pub out: PathBuf,
-    /// Also write the truth model (TOML, MODEL.md §7).
+    /// Also write the truth model (TOML).
     #[arg(long, value_name = "FILE")]
     pub truth: Option<PathBuf>,
 }
@@ -477,7 +483,7 @@ pub fn parse_variants(s: &str) -> Result<Vec<Variant>, String> {
     Ok(out)
 }
 
-/// Parses `--candidates`: a comma list of catalogue names (MODEL.md §5).
+/// Parses `--candidates`: a comma list of catalogue names ([`Effect::name`]).
 pub fn parse_candidates(s: &str) -> Result<Vec<Effect>, String> {
     s.split(',')
         .map(|c| c.trim().parse::<Effect>().map_err(|e| e.to_string()))
@@ -751,6 +757,42 @@ mod tests {
             let msg = one_line_error(&e);
             assert!(msg.contains(needle), "`{line}` -> `{msg}`");
             assert!(!msg.contains('\n'));
+        }
+    }
+
+    /// Every `--help` text (the tool's and each sub-command's) points only
+    /// to what the repository holds: no spec file outside it, no internal
+    /// issue numbers; and `--candidates` lists the whole catalogue.
+    #[test]
+    fn help_texts_point_inside_the_repository() {
+        use clap::CommandFactory;
+        let mut cli = Cli::command();
+        cli.build();
+        let mut texts = vec![(
+            "breakaway-lab".to_string(),
+            cli.render_long_help().to_string(),
+        )];
+        for sub in cli.get_subcommands_mut() {
+            texts.push((
+                sub.get_name().to_string(),
+                sub.render_long_help().to_string(),
+            ));
+        }
+        assert_eq!(texts.len(), 9);
+        for (name, text) in &texts {
+            assert!(!text.contains("MODEL.md"), "{name} --help cites MODEL.md");
+            assert!(
+                !text.contains("DIAGNOSE.md"),
+                "{name} --help cites DIAGNOSE.md"
+            );
+            let issue = text
+                .match_indices('#')
+                .any(|(i, _)| text[i + 1..].starts_with(|c: char| c.is_ascii_digit()));
+            assert!(!issue, "{name} --help names an issue number");
+        }
+        let (_, diagnose) = texts.iter().find(|(n, _)| n == "diagnose").unwrap();
+        for effect in Effect::ALL {
+            assert!(diagnose.contains(effect.name()), "{effect} missing");
         }
     }
 }

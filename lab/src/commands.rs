@@ -18,7 +18,7 @@ pub fn load_model(path: &Path) -> Result<Model, Error> {
     let model = crate::workflow::load_model(path)?;
     if model.z_max.is_nan() || model.z_max <= 0.0 {
         return Err(Error::Runtime(format!(
-            "model file {}: key `z_max`: break-away needs presliding, z_max > 0 (MODEL.md §4), got {}",
+            "model file {}: key `z_max`: break-away needs presliding, z_max > 0, got {}",
             path.display(),
             model.z_max
         )));

@@ -128,7 +128,7 @@ pub fn parse_csv(text: &str, path: &Path) -> Result<Record, Error> {
     let Some((hline, header)) = lines.next() else {
         return Err(err(
             path,
-            "empty file: no header line (MODEL.md §6 needs columns t, u, x)",
+            "empty file: no header line (a record needs columns t, u, x)",
         ));
     };
     let names = trimmed(&header);
@@ -139,7 +139,7 @@ pub fn parse_csv(text: &str, path: &Path) -> Result<Record, Error> {
             err(
                 path,
                 format!(
-                    "line {hline}: header lacks column `{name}` (MODEL.md §6 needs t, u, x; found: {})",
+                    "line {hline}: header lacks column `{name}` (a record needs t, u, x; found: {})",
                     names.join(", ")
                 ),
             )
@@ -433,7 +433,7 @@ mod tests {
         );
         assert_eq!(
             error("# only\n\n"),
-            "f.csv: empty file: no header line (MODEL.md §6 needs columns t, u, x)"
+            "f.csv: empty file: no header line (a record needs columns t, u, x)"
         );
         assert!(error(&csv("t;u;x\n")).starts_with("f.csv: line 1: header lacks column `t`"));
     }

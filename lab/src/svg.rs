@@ -33,6 +33,14 @@ impl Series {
             dots: true,
         }
     }
+
+    /// The points with both coordinates finite (the others are not drawn).
+    fn finite_points(&self) -> impl Iterator<Item = (f64, f64)> + '_ {
+        self.points
+            .iter()
+            .copied()
+            .filter(|(x, y)| x.is_finite() && y.is_finite())
+    }
 }
 
 /// One panel.
@@ -65,18 +73,14 @@ pub fn render(panels: &[Panel]) -> String {
     );
     for (k, p) in panels.iter().enumerate() {
         let y0 = k as f64 * H;
-        let pts = p
-            .series
-            .iter()
-            .flat_map(|s| s.points.iter())
-            .filter(|(x, y)| x.is_finite() && y.is_finite());
+        let pts = p.series.iter().flat_map(Series::finite_points);
         let (mut x0, mut x1, mut ya, mut yb) = (
             f64::INFINITY,
             f64::NEG_INFINITY,
             f64::INFINITY,
             f64::NEG_INFINITY,
         );
-        for &(x, y) in pts {
+        for (x, y) in pts {
             x0 = x0.min(x);
             x1 = x1.max(x);
             ya = ya.min(y);
@@ -133,11 +137,7 @@ pub fn render(panels: &[Panel]) -> String {
         }
         for ser in &p.series {
             if ser.dots {
-                for &(x, y) in ser
-                    .points
-                    .iter()
-                    .filter(|(x, y)| x.is_finite() && y.is_finite())
-                {
+                for (x, y) in ser.finite_points() {
                     let _ = writeln!(
                         s,
                         "<circle cx=\"{:.1}\" cy=\"{:.1}\" r=\"1.3\" fill=\"{}\" fill-opacity=\"0.5\"/>",
@@ -148,11 +148,7 @@ pub fn render(panels: &[Panel]) -> String {
                 }
             } else {
                 let mut d = String::new();
-                for &(x, y) in ser
-                    .points
-                    .iter()
-                    .filter(|(x, y)| x.is_finite() && y.is_finite())
-                {
+                for (x, y) in ser.finite_points() {
                     let _ = write!(
                         d,
                         "{}{:.1},{:.1}",

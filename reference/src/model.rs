@@ -5,12 +5,15 @@
 //! (§3), the moving mass of the plant (§1) and the optional effects of the
 //! catalogue (§5). [`Model::validate`] enforces every rule of those sections;
 //! [`Model::from_toml_str`] / [`Model::to_toml_string`] read and write the model
-//! file of §7. Reading is strict: unknown keys, missing keys, wrong types and
-//! invalid values are errors that name the key path (for example
-//! `effects.asymmetry.a`). Writing uses Rust's shortest round-trip float
-//! formatting, so a written file reads back bit-exact.
+//! file of §7. Reading is `serde` on the parsed TOML and strict: unknown
+//! keys, missing keys, wrong types and invalid values are errors that name
+//! the key path (for example `effects.asymmetry.a`). The rules and the
+//! writer share one list of the model's numbers with their keys and
+//! comments; writing uses Rust's shortest round-trip float formatting, so a
+//! written file reads back bit-exact.
 
 use crate::effect::Effect;
+use serde::Deserialize;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
@@ -19,7 +22,8 @@ use std::path::{Path, PathBuf};
 /// In a model file `fs == fc` marks a model without `stribeck` and
 /// `z_max == 0` a model without `presliding`; `sigma > 0` is the effect
 /// `viscous`.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Model {
     /// Moving mass `m` [kg] (rotary: kg·m²), `> 0`.
     pub mass: f64,
@@ -38,11 +42,13 @@ pub struct Model {
     /// Turning-point deadband `ε` [m], `>= 0`.
     pub epsilon: f64,
     /// Optional effects of the catalogue (§5).
+    #[serde(default)]
     pub effects: Effects,
 }
 
 /// The optional effects of MODEL.md §5; an effect is present when `Some`.
-#[derive(Clone, Debug, PartialEq, Default)]
+#[derive(Clone, Debug, PartialEq, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Effects {
     /// `offset`: `F += f0`.
     pub offset: Option<Offset>,
@@ -61,7 +67,8 @@ pub struct Effects {
 }
 
 /// Effect `offset` (§5): a constant force added at rest and in motion alike.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Offset {
     /// `F0` [N], signed, finite.
     pub f0: f64,
@@ -69,14 +76,16 @@ pub struct Offset {
 
 /// Effect `asymmetry` (§5): `Fc`, `Fs` scaled by `(1 + a)` while `d = +1`
 /// and `(1 − a)` while `d = −1`.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Asymmetry {
     /// `a` [-], `−1 < a < 1`.
     pub a: f64,
 }
 
 /// Effect `position_ripple` (§5): `F += A·sin(2π·x/λ + φ)`.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct PositionRipple {
     /// Amplitude `A` [N], finite.
     pub amplitude: f64,
@@ -87,7 +96,8 @@ pub struct PositionRipple {
 }
 
 /// Effect `dwell_stiction` (§5): `Fs` raised by `ΔFs·t_d/(t_d + γ)`.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct DwellStiction {
     /// `ΔFs` [N], `>= 0`.
     pub delta_fs: f64,
@@ -98,14 +108,16 @@ pub struct DwellStiction {
 }
 
 /// Effect `frictional_lag` (§5): `τ_L·dv_l/dt = v − v_l`.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct FrictionalLag {
     /// Lag time constant `τ_L` [s], `> 0`.
     pub tau_l: f64,
 }
 
 /// Effect `drift` (§5): `Fc`, `Fs` scaled by `(1 + β·t)`.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Drift {
     /// `β` [1/s], finite.
     pub beta: f64,
@@ -114,7 +126,8 @@ pub struct Drift {
 /// Effect `nonlinear_viscous` (§5): `F += σ_n·sgn(v)·|v|^n`, velocity
 /// strengthening that is not proportional to speed (gear and seal friction);
 /// `n = 1` would be `viscous`.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct NonlinearViscous {
     /// `σ_n` [N·(s/m)^n], `>= 0` (rotary: N·m·(s/rad)^n).
     pub sigma_n: f64,
@@ -171,7 +184,12 @@ enum Rule {
     Finite,
     Positive,
     NonNegative,
-    OpenUnit, // -1 < x < 1
+    /// `-1 < x < 1`.
+    OpenUnit,
+    /// `0 < x <= 2`.
+    Exponent,
+    /// `x >=` the named key's value.
+    AtLeast(&'static str, f64),
 }
 
 fn check(key: &str, value: f64, rule: Rule) -> Result<(), ModelError> {
@@ -181,16 +199,42 @@ fn check(key: &str, value: f64, rule: Rule) -> Result<(), ModelError> {
             format!("must be finite, got {value:?}"),
         ));
     }
-    let (ok, what) = match rule {
-        Rule::Finite => (true, ""),
-        Rule::Positive => (value > 0.0, "must be > 0"),
-        Rule::NonNegative => (value >= 0.0, "must be >= 0"),
-        Rule::OpenUnit => (value > -1.0 && value < 1.0, "must satisfy -1 < a < 1"),
+    let what = match rule {
+        Rule::Finite => None,
+        Rule::Positive | Rule::Exponent if value <= 0.0 => Some("must be > 0".to_string()),
+        Rule::Positive => None,
+        Rule::Exponent => (value > 2.0).then(|| "must be in (0, 2]".to_string()),
+        Rule::NonNegative => (value < 0.0).then(|| "must be >= 0".to_string()),
+        Rule::OpenUnit => {
+            (value <= -1.0 || value >= 1.0).then(|| "must satisfy -1 < a < 1".to_string())
+        }
+        Rule::AtLeast(name, bound) => {
+            (value < bound).then(|| format!("must be >= {name} ({bound:?})"))
+        }
     };
-    if ok {
-        Ok(())
-    } else {
-        Err(ModelError::new(key, format!("{what}, got {value:?}")))
+    match what {
+        None => Ok(()),
+        Some(what) => Err(ModelError::new(key, format!("{what}, got {value:?}"))),
+    }
+}
+
+/// One number of a model: the effect whose table holds it (none for the
+/// top level), its key, value, rule and the comment the file gives it.
+struct Entry {
+    effect: Option<Effect>,
+    key: &'static str,
+    value: f64,
+    rule: Rule,
+    comment: &'static str,
+}
+
+impl Entry {
+    /// The key path, e.g. `fs` or `effects.asymmetry.a`.
+    fn path(&self) -> String {
+        match self.effect {
+            None => self.key.to_string(),
+            Some(effect) => format!("effects.{}.{}", effect.name(), self.key),
+        }
     }
 }
 
@@ -199,70 +243,98 @@ impl Model {
     /// `z_max = 0` is allowed (a model without presliding, as in files).
     /// The error names the first offending key.
     pub fn validate(&self) -> Result<(), ModelError> {
-        check("mass", self.mass, Rule::Positive)?;
-        check("fc", self.fc, Rule::Positive)?;
-        check("fs", self.fs, Rule::Finite)?;
-        if self.fs < self.fc {
-            return Err(ModelError::new(
-                "fs",
-                format!("must be >= fc ({:?}), got {:?}", self.fc, self.fs),
-            ));
-        }
-        check("v_stribeck", self.v_stribeck, Rule::Positive)?;
-        check("delta", self.delta, Rule::Positive)?;
-        check("sigma", self.sigma, Rule::NonNegative)?;
-        check("z_max", self.z_max, Rule::NonNegative)?;
-        check("epsilon", self.epsilon, Rule::NonNegative)?;
+        self.entries()
+            .iter()
+            .try_for_each(|e| check(&e.path(), e.value, e.rule))
+    }
+
+    /// Every number of the model in the order of the file (§7): the top
+    /// level, then the present effects in the order of the catalogue.
+    fn entries(&self) -> Vec<Entry> {
+        use Rule::{AtLeast, Exponent, Finite, NonNegative, OpenUnit, Positive};
+        let top = |key, value, rule, comment| Entry {
+            effect: None,
+            key,
+            value,
+            rule,
+            comment,
+        };
+        let mut entries = vec![
+            top("mass", self.mass, Positive, "m [kg]"),
+            top("fc", self.fc, Positive, "Fc [N]"),
+            top("fs", self.fs, AtLeast("fc", self.fc), "Fs [N]"),
+            top("v_stribeck", self.v_stribeck, Positive, "V [m/s]"),
+            top("delta", self.delta, Positive, "shape exponent"),
+            top("sigma", self.sigma, NonNegative, "viscous [N*s/m]"),
+            top("z_max", self.z_max, NonNegative, "presliding distance [m]"),
+            top(
+                "epsilon",
+                self.epsilon,
+                NonNegative,
+                "turning-point deadband [m]",
+            ),
+        ];
         let e = &self.effects;
-        if let Some(o) = &e.offset {
-            check("effects.offset.f0", o.f0, Rule::Finite)?;
-        }
-        if let Some(a) = &e.asymmetry {
-            check("effects.asymmetry.a", a.a, Rule::OpenUnit)?;
-        }
-        if let Some(r) = &e.position_ripple {
-            check(
-                "effects.position_ripple.amplitude",
-                r.amplitude,
-                Rule::Finite,
-            )?;
-            check(
-                "effects.position_ripple.wavelength",
-                r.wavelength,
-                Rule::Positive,
-            )?;
-            check("effects.position_ripple.phase", r.phase, Rule::Finite)?;
-        }
-        if let Some(d) = &e.dwell_stiction {
-            check(
-                "effects.dwell_stiction.delta_fs",
-                d.delta_fs,
-                Rule::NonNegative,
-            )?;
-            check("effects.dwell_stiction.gamma", d.gamma, Rule::Positive)?;
-            check("effects.dwell_stiction.v_rest", d.v_rest, Rule::Positive)?;
-        }
-        if let Some(l) = &e.frictional_lag {
-            check("effects.frictional_lag.tau_l", l.tau_l, Rule::Positive)?;
-        }
-        if let Some(d) = &e.drift {
-            check("effects.drift.beta", d.beta, Rule::Finite)?;
-        }
-        if let Some(nv) = &e.nonlinear_viscous {
-            check(
-                "effects.nonlinear_viscous.sigma_n",
-                nv.sigma_n,
-                Rule::NonNegative,
-            )?;
-            check("effects.nonlinear_viscous.n", nv.n, Rule::Positive)?;
-            if nv.n > 2.0 {
-                return Err(ModelError::new(
-                    "effects.nonlinear_viscous.n",
-                    format!("must be in (0, 2], got {:?}", nv.n),
-                ));
+        let effects: [(Effect, Option<Vec<_>>); 7] = [
+            (
+                Effect::Offset,
+                e.offset.map(|o| vec![("f0", o.f0, Finite, "[N]")]),
+            ),
+            (
+                Effect::Asymmetry,
+                e.asymmetry.map(|a| vec![("a", a.a, OpenUnit, "")]),
+            ),
+            (
+                Effect::PositionRipple,
+                e.position_ripple.map(|r| {
+                    vec![
+                        ("amplitude", r.amplitude, Finite, "[N]"),
+                        ("wavelength", r.wavelength, Positive, "[m]"),
+                        ("phase", r.phase, Finite, "[rad]"),
+                    ]
+                }),
+            ),
+            (
+                Effect::DwellStiction,
+                e.dwell_stiction.map(|d| {
+                    vec![
+                        ("delta_fs", d.delta_fs, NonNegative, "[N]"),
+                        ("gamma", d.gamma, Positive, "[s]"),
+                        ("v_rest", d.v_rest, Positive, "[m/s]"),
+                    ]
+                }),
+            ),
+            (
+                Effect::FrictionalLag,
+                e.frictional_lag
+                    .map(|l| vec![("tau_l", l.tau_l, Positive, "[s]")]),
+            ),
+            (
+                Effect::Drift,
+                e.drift.map(|d| vec![("beta", d.beta, Finite, "[1/s]")]),
+            ),
+            (
+                Effect::NonlinearViscous,
+                e.nonlinear_viscous.map(|nv| {
+                    vec![
+                        ("sigma_n", nv.sigma_n, NonNegative, "[N*(s/m)^n]"),
+                        ("n", nv.n, Exponent, ""),
+                    ]
+                }),
+            ),
+        ];
+        for (effect, numbers) in effects {
+            for (key, value, rule, comment) in numbers.into_iter().flatten() {
+                entries.push(Entry {
+                    effect: Some(effect),
+                    key,
+                    value,
+                    rule,
+                    comment,
+                });
             }
         }
-        Ok(())
+        entries
     }
 
     /// Reads a model file (§7) from TOML text and validates it.
@@ -278,66 +350,8 @@ impl Model {
             }
             ModelError::new("", msg.replace('\n', " "))
         })?;
-        let mut top = Reader::new("", &table);
-        let mut model = Model {
-            mass: top.float("mass")?,
-            fc: top.float("fc")?,
-            fs: top.float("fs")?,
-            v_stribeck: top.float("v_stribeck")?,
-            delta: top.float("delta")?,
-            sigma: top.float("sigma")?,
-            z_max: top.float("z_max")?,
-            epsilon: top.float("epsilon")?,
-            effects: Effects::default(),
-        };
-        if let Some(effects) = top.table("effects")? {
-            let mut er = Reader::new("effects.", effects);
-            if let Some(mut r) = er.effect(Effect::Offset)? {
-                model.effects.offset = Some(Offset { f0: r.float("f0")? });
-                r.finish()?;
-            }
-            if let Some(mut r) = er.effect(Effect::Asymmetry)? {
-                model.effects.asymmetry = Some(Asymmetry { a: r.float("a")? });
-                r.finish()?;
-            }
-            if let Some(mut r) = er.effect(Effect::PositionRipple)? {
-                model.effects.position_ripple = Some(PositionRipple {
-                    amplitude: r.float("amplitude")?,
-                    wavelength: r.float("wavelength")?,
-                    phase: r.float("phase")?,
-                });
-                r.finish()?;
-            }
-            if let Some(mut r) = er.effect(Effect::DwellStiction)? {
-                model.effects.dwell_stiction = Some(DwellStiction {
-                    delta_fs: r.float("delta_fs")?,
-                    gamma: r.float("gamma")?,
-                    v_rest: r.float("v_rest")?,
-                });
-                r.finish()?;
-            }
-            if let Some(mut r) = er.effect(Effect::FrictionalLag)? {
-                model.effects.frictional_lag = Some(FrictionalLag {
-                    tau_l: r.float("tau_l")?,
-                });
-                r.finish()?;
-            }
-            if let Some(mut r) = er.effect(Effect::Drift)? {
-                model.effects.drift = Some(Drift {
-                    beta: r.float("beta")?,
-                });
-                r.finish()?;
-            }
-            if let Some(mut r) = er.effect(Effect::NonlinearViscous)? {
-                model.effects.nonlinear_viscous = Some(NonlinearViscous {
-                    sigma_n: r.float("sigma_n")?,
-                    n: r.float("n")?,
-                });
-                r.finish()?;
-            }
-            er.finish()?;
-        }
-        top.finish()?;
+        let model: Model = serde_path_to_error::deserialize(toml::Value::Table(table))
+            .map_err(|e| read_error(&e))?;
         model.validate()?;
         Ok(model)
     }
@@ -348,63 +362,18 @@ impl Model {
     /// every valid `m`.
     pub fn to_toml_string(&self) -> String {
         let mut s = String::new();
-        let header = |s: &mut String, effect: Effect| {
-            s.push_str(&format!("\n[effects.{}]\n", effect.name()));
-        };
-        let kv = |s: &mut String, key: &str, v: f64, comment: &str| {
-            let val = fmt_float(v);
-            if comment.is_empty() {
-                s.push_str(&format!("{key} = {val}\n"));
-            } else {
-                s.push_str(&format!("{key} = {val}  # {comment}\n"));
+        let mut table = None;
+        for e in self.entries() {
+            if let Some(effect) = e.effect.filter(|_| e.effect != table) {
+                s.push_str(&format!("\n[effects.{}]\n", effect.name()));
+                table = e.effect;
             }
-        };
-        kv(&mut s, "mass", self.mass, "m [kg]");
-        kv(&mut s, "fc", self.fc, "Fc [N]");
-        kv(&mut s, "fs", self.fs, "Fs [N]");
-        kv(&mut s, "v_stribeck", self.v_stribeck, "V [m/s]");
-        kv(&mut s, "delta", self.delta, "shape exponent");
-        kv(&mut s, "sigma", self.sigma, "viscous [N*s/m]");
-        kv(&mut s, "z_max", self.z_max, "presliding distance [m]");
-        kv(
-            &mut s,
-            "epsilon",
-            self.epsilon,
-            "turning-point deadband [m]",
-        );
-        let e = &self.effects;
-        if let Some(o) = &e.offset {
-            header(&mut s, Effect::Offset);
-            kv(&mut s, "f0", o.f0, "[N]");
-        }
-        if let Some(a) = &e.asymmetry {
-            header(&mut s, Effect::Asymmetry);
-            kv(&mut s, "a", a.a, "");
-        }
-        if let Some(r) = &e.position_ripple {
-            header(&mut s, Effect::PositionRipple);
-            kv(&mut s, "amplitude", r.amplitude, "[N]");
-            kv(&mut s, "wavelength", r.wavelength, "[m]");
-            kv(&mut s, "phase", r.phase, "[rad]");
-        }
-        if let Some(d) = &e.dwell_stiction {
-            header(&mut s, Effect::DwellStiction);
-            kv(&mut s, "delta_fs", d.delta_fs, "[N]");
-            kv(&mut s, "gamma", d.gamma, "[s]");
-            kv(&mut s, "v_rest", d.v_rest, "[m/s]");
-        }
-        if let Some(l) = &e.frictional_lag {
-            header(&mut s, Effect::FrictionalLag);
-            kv(&mut s, "tau_l", l.tau_l, "[s]");
-        }
-        if let Some(d) = &e.drift {
-            header(&mut s, Effect::Drift);
-            kv(&mut s, "beta", d.beta, "[1/s]");
-        }
-        if let Some(nv) = &e.nonlinear_viscous {
-            header(&mut s, Effect::NonlinearViscous);
-            kv(&mut s, "sigma_n", nv.sigma_n, "[N*(s/m)^n]");
-            kv(&mut s, "n", nv.n, "");
+            let value = fmt_float(e.value);
+            if e.comment.is_empty() {
+                s.push_str(&format!("{} = {value}\n", e.key));
+            } else {
+                s.push_str(&format!("{} = {value}  # {}\n", e.key, e.comment));
+            }
         }
         s
     }
@@ -442,67 +411,35 @@ pub(crate) fn fmt_float(v: f64) -> String {
     }
 }
 
-/// Strict reader of one TOML table: tracks the keys used.
-struct Reader<'a> {
-    prefix: String,
-    table: &'a toml::Table,
-    used: Vec<&'static str>,
-}
-
-impl<'a> Reader<'a> {
-    fn new(prefix: impl Into<String>, table: &'a toml::Table) -> Self {
-        Reader {
-            prefix: prefix.into(),
-            table,
-            used: Vec::new(),
+/// The error of reading a TOML table as a model file, naming the key
+/// path: an unknown or missing key, or a value of the wrong type.
+fn read_error(e: &serde_path_to_error::Error<toml::de::Error>) -> ModelError {
+    let mut path: Vec<String> = e.path().iter().map(ToString::to_string).collect();
+    let message = e.inner().message().trim().replace('\n', " ");
+    let quoted = |prefix: &str| {
+        let rest = message.strip_prefix(prefix)?.strip_prefix('`')?;
+        rest.split_once('`').map(|(key, _)| key.to_string())
+    };
+    let message = if let Some(key) = quoted("missing field ") {
+        path.push(key);
+        "missing required key".to_string()
+    } else if let Some(key) = quoted("unknown field ") {
+        if path.last() != Some(&key) {
+            path.push(key);
         }
-    }
-
-    fn path(&self, key: &str) -> String {
-        format!("{}{}", self.prefix, key)
-    }
-
-    fn float(&mut self, key: &'static str) -> Result<f64, ModelError> {
-        self.used.push(key);
-        match self.table.get(key) {
-            None => Err(ModelError::new(self.path(key), "missing required key")),
-            Some(toml::Value::Float(f)) => Ok(*f),
-            // Integers are accepted as floats (`mass = 1`). i64 -> f64 rounds
-            // to nearest for huge values, which is the natural reading.
-            #[allow(clippy::cast_precision_loss)]
-            Some(toml::Value::Integer(i)) => Ok(*i as f64),
-            Some(other) => Err(ModelError::new(
-                self.path(key),
-                format!("expected a number, got {}", other.type_str()),
-            )),
-        }
-    }
-
-    fn table(&mut self, key: &'static str) -> Result<Option<&'a toml::Table>, ModelError> {
-        self.used.push(key);
-        match self.table.get(key) {
-            None => Ok(None),
-            Some(toml::Value::Table(t)) => Ok(Some(t)),
-            Some(other) => Err(ModelError::new(
-                self.path(key),
-                format!("expected a table, got {}", other.type_str()),
-            )),
-        }
-    }
-
-    /// The reader of the table of `effect` under `[effects]` (§7), if present.
-    fn effect(&mut self, effect: Effect) -> Result<Option<Reader<'a>>, ModelError> {
-        let prefix = format!("{}{}.", self.prefix, effect.name());
-        Ok(self.table(effect.name())?.map(|t| Reader::new(prefix, t)))
-    }
-
-    /// Error on the first key that was not read.
-    fn finish(&self) -> Result<(), ModelError> {
-        for key in self.table.keys() {
-            if !self.used.iter().any(|u| u == key) {
-                return Err(ModelError::new(self.path(key), "unknown key"));
-            }
-        }
-        Ok(())
-    }
+        "unknown key".to_string()
+    } else if let Some((got, wanted)) = message
+        .strip_prefix("invalid type: ")
+        .and_then(|m| m.rsplit_once(", expected "))
+    {
+        let wanted = if wanted.starts_with("struct") {
+            "a table"
+        } else {
+            "a number"
+        };
+        format!("expected {wanted}, got {got}")
+    } else {
+        message
+    };
+    ModelError::new(path.join("."), message)
 }

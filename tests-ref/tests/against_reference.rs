@@ -6,24 +6,15 @@
 //! within 1e-4 relative. The worst cases seen are printed
 //! (`cargo test --test against_reference -- --nocapture`).
 
-use std::sync::Mutex;
-
 use breakaway::{BreakAwayPredictor, Model, Params, Presliding, Variant};
 use breakaway_reference as reference;
 use proptest::prelude::*;
 
 mod common;
-use common::{params, reference_model, runner, samples, trajectory, Segment};
+use common::{check, params, reference_model, samples, trajectory, Segment, Worst};
 
-static WORST_FRICTION: Mutex<(f64, String)> = Mutex::new((0.0, String::new()));
-static WORST_BREAKAWAY: Mutex<(f64, String)> = Mutex::new((0.0, String::new()));
-
-fn record(slot: &Mutex<(f64, String)>, error: f64, case: impl FnOnce() -> String) {
-    let mut worst = slot.lock().unwrap();
-    if error > worst.0 {
-        *worst = (error, case());
-    }
-}
+static WORST_FRICTION: Worst = Worst::new();
+static WORST_BREAKAWAY: Worst = Worst::new();
 
 /// Drives the library (f32, counts of z_max/1000) and the reference along
 /// the trajectory; returns the largest |ΔF|/Fs.
@@ -45,66 +36,47 @@ fn friction_error(p: &Params, segments: &[Segment]) -> f64 {
 
 #[test]
 fn friction_matches_reference_within_1e_5_fs() {
-    let mut runner = runner(400);
-    runner
-        .run(&(params(0.3..3.0), trajectory(20.0)), |(p, segments)| {
-            let error = friction_error(&p, &segments);
-            record(&WORST_FRICTION, error, || format!("{p:?}"));
-            prop_assert!(error <= 1e-5, "|ΔF| = {error:e}·Fs for {p:?}");
-            Ok(())
-        })
-        .unwrap();
-    let worst = WORST_FRICTION.lock().unwrap();
-    println!(
-        "friction: worst |F_f32 − F_f64| = {:.3e}·Fs ({})",
-        worst.0, worst.1
+    check(
+        400,
+        &(params(0.3..3.0), trajectory(20.0)),
+        |(p, segments)| {
+            WORST_FRICTION.within(friction_error(&p, &segments), 1e-5, || format!("{p:?}"))
+        },
     );
+    WORST_FRICTION.print("friction: worst |F_f32 − F_f64|", "·Fs");
 }
 
 #[test]
 fn break_away_matches_reference_within_1e_4() {
-    let mut runner = runner(400);
     let cases = (
         params(0.3..3.0),
         -3.0f32..3.0,
         prop_oneof![Just(0.95f32), 0.5f32..0.99],
     );
-    runner
-        .run(&cases, |(p, log_k, w_b)| {
-            let model = Model::<f32>::new(p).unwrap();
-            let judge_model = reference_model(&p);
-            let k = 10f32.powf(log_k) * p.fc;
-            let predictor = BreakAwayPredictor::new(&model, w_b).unwrap();
-            for variant in Variant::ALL {
-                let judge_variant = reference::Variant::parse(variant.name()).unwrap();
-                let want = reference::predict_break_away(
-                    &judge_model,
-                    judge_variant,
-                    k as f64,
-                    w_b as f64,
-                )
-                .unwrap();
-                let got = predictor.predict(&model, variant, k).unwrap();
-                let rel = |a: f32, b: f64| ((a as f64 - b) / b).abs();
-                let error = rel(got.f_ba, want.f_ba)
-                    .max(rel(got.v_b, want.v_b))
-                    .max(rel(got.t_ba, want.t_ba));
-                record(&WORST_BREAKAWAY, error, || {
-                    format!("{variant:?} k={k} w_b={w_b} {p:?}")
-                });
-                prop_assert!(
-                    error <= 1e-4,
-                    "{variant:?}: rel. error {error:e} at k = {k}, {p:?}"
-                );
-            }
-            Ok(())
-        })
-        .unwrap();
-    let worst = WORST_BREAKAWAY.lock().unwrap();
-    println!(
-        "break-away: worst relative error of v_b, F_ba, t_ba = {:.3e} ({})",
-        worst.0, worst.1
-    );
+    check(400, &cases, |(p, log_k, w_b)| {
+        let model = Model::<f32>::new(p).unwrap();
+        let judge_model = reference_model(&p);
+        let k = 10f32.powf(log_k) * p.fc;
+        let predictor = BreakAwayPredictor::new(&model, w_b).unwrap();
+        for variant in Variant::ALL {
+            let judge_variant = reference::Variant::parse(variant.name()).unwrap();
+            let want =
+                reference::predict_break_away(&judge_model, judge_variant, k as f64, w_b as f64)
+                    .unwrap();
+            let got = predictor.predict(&model, variant, k).unwrap();
+            let rel = |a: f32, b: f64| ((a as f64 - b) / b).abs();
+            let error = rel(got.f_ba, want.f_ba)
+                .max(rel(got.v_b, want.v_b))
+                .max(rel(got.t_ba, want.t_ba));
+            WORST_BREAKAWAY.record(error, || format!("{variant:?} k={k} w_b={w_b} {p:?}"));
+            prop_assert!(
+                error <= 1e-4,
+                "{variant:?}: rel. error {error:e} at k = {k}, {p:?}"
+            );
+        }
+        Ok(())
+    });
+    WORST_BREAKAWAY.print("break-away: worst relative error of v_b, F_ba, t_ba", "");
 }
 
 /// The per-model Stribeck table (`breakaway::curves`) over the whole
@@ -114,30 +86,20 @@ fn break_away_matches_reference_within_1e_4() {
 /// the kernels take over below it.
 #[test]
 fn friction_matches_reference_within_1e_5_fs_for_every_delta() {
-    let mut runner = runner(300);
     let cases = (
         params(0.3..3.0),
         -1.0f32..1.0, // log10 δ
         trajectory(20.0),
     );
-    let worst = Mutex::new((0.0f64, String::new()));
-    runner
-        .run(&cases, |(p, log_delta, segments)| {
-            let p = Params {
-                delta: 10f32.powf(log_delta),
-                ..p
-            };
-            let error = friction_error(&p, &segments);
-            record(&worst, error, || format!("{p:?}"));
-            prop_assert!(error <= 1e-5, "|ΔF| = {error:e}·Fs for {p:?}");
-            Ok(())
-        })
-        .unwrap();
-    let worst = worst.lock().unwrap();
-    println!(
-        "friction, δ in [0.1, 10]: worst |F_f32 − F_f64| = {:.3e}·Fs ({})",
-        worst.0, worst.1
-    );
+    let worst = Worst::new();
+    check(300, &cases, |(p, log_delta, segments)| {
+        let p = Params {
+            delta: 10f32.powf(log_delta),
+            ..p
+        };
+        worst.within(friction_error(&p, &segments), 1e-5, || format!("{p:?}"))
+    });
+    worst.print("friction, δ in [0.1, 10]: worst |F_f32 − F_f64|", "·Fs");
 }
 
 /// S(v) of the table against the reference at velocities log-uniform over
@@ -145,33 +107,29 @@ fn friction_matches_reference_within_1e_5_fs_for_every_delta() {
 /// log-uniform from 0.05 to 20: within 2e-6·Fs.
 #[test]
 fn stribeck_matches_reference_over_every_velocity_and_delta() {
-    let mut runner = runner(2000);
     let cases = (params(0.3..3.0), -1.3f32..1.3, -30.0f32..10.0);
-    let worst = Mutex::new((0.0f64, String::new()));
-    runner
-        .run(&cases, |(p, log_delta, log_u)| {
-            let p = Params {
-                delta: 10f32.powf(log_delta),
-                ..p
-            };
-            let model = Model::<f32>::new(p).unwrap();
-            let judge = reference_model(&p);
-            for sign in [1.0f32, -1.0] {
-                let v = sign * 10f32.powf(log_u) * p.v_stribeck;
-                let error = (f64::from(model.stribeck(v))
-                    - reference::curves::stribeck(&judge, f64::from(v)))
-                .abs()
-                    / f64::from(p.fs);
-                record(&worst, error, || format!("v = {v:e}, {p:?}"));
-                prop_assert!(error <= 2e-6, "|ΔS| = {error:e}·Fs at v = {v:e}, {p:?}");
-            }
-            Ok(())
-        })
-        .unwrap();
-    let worst = worst.lock().unwrap();
-    println!(
-        "Stribeck, δ in [0.05, 20], |v| from 1e-30·V to 1e10·V: worst |S_f32 − S_f64| = {:.3e}·Fs ({})",
-        worst.0, worst.1
+    let worst = Worst::new();
+    check(2000, &cases, |(p, log_delta, log_u)| {
+        let p = Params {
+            delta: 10f32.powf(log_delta),
+            ..p
+        };
+        let model = Model::<f32>::new(p).unwrap();
+        let judge = reference_model(&p);
+        for sign in [1.0f32, -1.0] {
+            let v = sign * 10f32.powf(log_u) * p.v_stribeck;
+            let error = (f64::from(model.stribeck(v))
+                - reference::curves::stribeck(&judge, f64::from(v)))
+            .abs()
+                / f64::from(p.fs);
+            worst.record(error, || format!("v = {v:e}, {p:?}"));
+            prop_assert!(error <= 2e-6, "|ΔS| = {error:e}·Fs at v = {v:e}, {p:?}");
+        }
+        Ok(())
+    });
+    worst.print(
+        "Stribeck, δ in [0.05, 20], |v| from 1e-30·V to 1e10·V: worst |S_f32 − S_f64|",
+        "·Fs",
     );
 }
 
@@ -187,59 +145,55 @@ fn stribeck_matches_reference_over_every_velocity_and_delta() {
 /// a later root than the reference's (within 1 %).
 #[test]
 fn consistent_root_matches_reference_for_steep_curves_and_every_delta() {
-    let mut runner = runner(3000);
     let cases = (
         params(0.3..3.0),
         0.0f32..1.0,   // log10 Fs/Fc
         -1.0f32..1.0,  // log10 δ
         -10.0f32..4.0, // log10 c/(V·Fc)
     );
-    let worst = Mutex::new((0.0f64, String::new()));
-    runner
-        .run(&cases, |(p, log_ratio, log_delta, log_c)| {
-            let p = Params {
-                fs: p.fc * 10f32.powf(log_ratio),
-                delta: 10f32.powf(log_delta),
-                sigma: 0.0,
-                ..p
-            };
-            let model = Model::<f32>::new(p).unwrap();
-            let judge = reference_model(&p);
-            let predictor = BreakAwayPredictor::new(&model, 0.95).unwrap();
-            // k with c = k·z_max/|ln w_b| = 10^log_c·V·Fc.
-            let c = 10f64.powf(f64::from(log_c)) * f64::from(p.v_stribeck) * f64::from(p.fc);
-            let k = (c * 0.95f64.ln().abs() / f64::from(p.z_max)) as f32;
-            let c = f64::from(k) * f64::from(p.z_max) / 0.95f64.ln().abs();
-            let got = predictor.predict(&model, Variant::Consistent, k).unwrap();
-            let want = reference::consistent_root(&judge, c);
-            let v = f64::from(got.v_b);
-            let s = |v: f64| reference::curves::stribeck(&judge, v);
-            let residual = (v * s(v) / c - 1.0).abs();
-            // d(v·S)/dv relative to S at the reference root.
-            let h = 1e-6 * want;
-            let slope = ((want + h) * s(want + h) - (want - h) * s(want - h)) / (2.0 * h) / s(want);
-            let error = (v / want - 1.0).abs();
-            if slope >= 0.1 {
-                record(&worst, error, || format!("c = {c:e}, {p:?}"));
-                prop_assert!(
-                    error <= 1e-5,
-                    "v_b rel. error {error:e} at c = {c:e}, {p:?}"
-                );
-            }
+    let worst = Worst::new();
+    check(3000, &cases, |(p, log_ratio, log_delta, log_c)| {
+        let p = Params {
+            fs: p.fc * 10f32.powf(log_ratio),
+            delta: 10f32.powf(log_delta),
+            sigma: 0.0,
+            ..p
+        };
+        let model = Model::<f32>::new(p).unwrap();
+        let judge = reference_model(&p);
+        let predictor = BreakAwayPredictor::new(&model, 0.95).unwrap();
+        // k with c = k·z_max/|ln w_b| = 10^log_c·V·Fc.
+        let c = 10f64.powf(f64::from(log_c)) * f64::from(p.v_stribeck) * f64::from(p.fc);
+        let k = (c * 0.95f64.ln().abs() / f64::from(p.z_max)) as f32;
+        let c = f64::from(k) * f64::from(p.z_max) / 0.95f64.ln().abs();
+        let got = predictor.predict(&model, Variant::Consistent, k).unwrap();
+        let want = reference::consistent_root(&judge, c);
+        let v = f64::from(got.v_b);
+        let s = |v: f64| reference::curves::stribeck(&judge, v);
+        let residual = (v * s(v) / c - 1.0).abs();
+        // d(v·S)/dv relative to S at the reference root.
+        let h = 1e-6 * want;
+        let slope = ((want + h) * s(want + h) - (want - h) * s(want - h)) / (2.0 * h) / s(want);
+        let error = (v / want - 1.0).abs();
+        if slope >= 0.1 {
+            worst.record(error, || format!("c = {c:e}, {p:?}"));
             prop_assert!(
-                residual <= 1e-5,
-                "residual {residual:e} at c = {c:e}, {p:?}"
+                error <= 1e-5,
+                "v_b rel. error {error:e} at c = {c:e}, {p:?}"
             );
-            prop_assert!(
-                v <= 1.01 * want,
-                "v_b = {v:e}, root {want:e} at c = {c:e}, {p:?}"
-            );
-            Ok(())
-        })
-        .unwrap();
-    let worst = worst.lock().unwrap();
-    println!(
-        "consistent root, Fs/Fc in [1, 10], δ in [0.1, 10]: worst relative error of v_b = {:.3e} ({})",
-        worst.0, worst.1
+        }
+        prop_assert!(
+            residual <= 1e-5,
+            "residual {residual:e} at c = {c:e}, {p:?}"
+        );
+        prop_assert!(
+            v <= 1.01 * want,
+            "v_b = {v:e}, root {want:e} at c = {c:e}, {p:?}"
+        );
+        Ok(())
+    });
+    worst.print(
+        "consistent root, Fs/Fc in [1, 10], δ in [0.1, 10]: worst relative error of v_b",
+        "",
     );
 }

@@ -7,8 +7,6 @@
 //! receives: the reference gets the same quantized velocity and force rate.
 //! Worst cases are printed (`-- --nocapture`).
 
-use std::sync::Mutex;
-
 use breakaway::{
     BreakAwayPredictor, Model, Param, ParamError, Params, Presliding, Scalar, Variant, Q16,
 };
@@ -16,18 +14,9 @@ use breakaway_reference as reference;
 use proptest::prelude::*;
 
 mod common;
-use common::{params, reference_model, runner, samples, trajectory, Segment, FIG5};
+use common::{check, params, reference_model, samples, trajectory, Segment, Worst, FIG5};
 
 type Fx = Q16<16>;
-
-static WORST: Mutex<[(f64, String); 2]> = Mutex::new([(0.0, String::new()), (0.0, String::new())]);
-
-fn record(slot: usize, error: f64, case: impl FnOnce() -> String) {
-    let mut worst = WORST.lock().unwrap();
-    if error > worst[slot].0 {
-        worst[slot] = (error, case());
-    }
-}
 
 /// Worst |F − F_ref|/Fs over the samples of `segments` (in steps of
 /// z_max/1000) read by an encoder of `per_z_max` counts per z_max.
@@ -58,10 +47,11 @@ fn friction_error(p: &Params, segments: &[Segment], per_z_max: f64) -> f64 {
 fn fixed_friction_within_1e_3_fs_at_every_encoder_resolution() {
     for decade in 1..=7 {
         let per_z_max = 10f64.powi(decade);
-        let mut runner = runner(40);
         let worst = std::cell::Cell::new(0.0f64);
-        runner
-            .run(&(params(0.5..2.0), trajectory(64.0)), |(p, segments)| {
+        check(
+            40,
+            &(params(0.5..2.0), trajectory(64.0)),
+            |(p, segments)| {
                 let error = friction_error(&p, &segments, per_z_max);
                 worst.set(worst.get().max(error));
                 prop_assert!(
@@ -69,8 +59,8 @@ fn fixed_friction_within_1e_3_fs_at_every_encoder_resolution() {
                     "|ΔF| = {error:e}·Fs at {per_z_max:e} counts per z_max for {p:?}"
                 );
                 Ok(())
-            })
-            .unwrap();
+            },
+        );
         println!(
             "{per_z_max:.0e} counts per z_max: worst |ΔF| = {:.3e}·Fs",
             worst.get()
@@ -80,65 +70,55 @@ fn fixed_friction_within_1e_3_fs_at_every_encoder_resolution() {
 
 #[test]
 fn fixed_friction_matches_reference_within_1e_3_fs() {
-    let mut runner = runner(300);
-    runner
-        .run(&(params(0.5..2.0), trajectory(64.0)), |(p, segments)| {
-            let error = friction_error(&p, &segments, 1000.0);
-            record(0, error, || format!("{p:?}"));
-            prop_assert!(error <= 1e-3, "|ΔF| = {error:e}·Fs for {p:?}");
-            Ok(())
-        })
-        .unwrap();
-    let worst = WORST.lock().unwrap();
-    println!(
-        "fixed point: worst |F_q16 − F_f64| = {:.3e}·Fs ({})",
-        worst[0].0, worst[0].1
+    let worst = Worst::new();
+    check(
+        300,
+        &(params(0.5..2.0), trajectory(64.0)),
+        |(p, segments)| {
+            worst.within(friction_error(&p, &segments, 1000.0), 1e-3, || {
+                format!("{p:?}")
+            })
+        },
     );
+    worst.print("fixed point: worst |F_q16 − F_f64|", "·Fs");
 }
 
 #[test]
 fn fixed_break_away_matches_reference_within_1e_3() {
-    let mut runner = runner(300);
+    let worst = Worst::new();
     // k from 0.01 to 30 Fs/s (raised where v_b would fall below 1e-3·V).
     let cases = (
         params(0.5..2.0),
         -2.0f32..1.5,
         prop_oneof![Just(0.95f32), 0.5f32..0.99],
     );
-    runner
-        .run(&cases, |(p, log_k, w_b)| {
-            let model = Model::<Fx>::new(p).unwrap();
-            let judge_model = reference_model(&p);
-            let predictor = BreakAwayPredictor::new(&model, w_b).unwrap();
-            // Documented range: v_b ≥ 1e-3·V, where the Q16.16 velocity
-            // resolution (1.5e-5·V) moves S(v_b) by less than 3e-4·(Fs − Fc)
-            // even for δ = 0.5 (infinite slope of S at v = 0).
-            let travel_per_rate = p.z_max / ((w_b as f64).ln().abs() as f32 * p.v_stribeck);
-            let k_min = 1e-3 / travel_per_rate;
-            let k_q = Fx::from_f32(10f32.powf(log_k).max(k_min)).unwrap();
-            let k = k_q.to_f32() as f64 * p.fs as f64;
-            for variant in Variant::ALL {
-                let judge_variant = reference::Variant::parse(variant.name()).unwrap();
-                let want =
-                    reference::predict_break_away(&judge_model, judge_variant, k, w_b as f64)
-                        .unwrap();
-                let got = predictor.predict(&model, variant, k_q).unwrap();
-                let f_ba = got.f_ba.to_f32() as f64 * p.fs as f64;
-                let error = ((f_ba - want.f_ba) / want.f_ba).abs();
-                record(1, error, || format!("{variant:?} k={k} w_b={w_b} {p:?}"));
-                prop_assert!(
-                    error <= 1e-3,
-                    "{variant:?}: F_ba rel. error {error:e} at k = {k}, {p:?}"
-                );
-            }
-            Ok(())
-        })
-        .unwrap();
-    let worst = WORST.lock().unwrap();
-    println!(
-        "fixed point: worst F_ba relative error = {:.3e} ({})",
-        worst[1].0, worst[1].1
-    );
+    check(300, &cases, |(p, log_k, w_b)| {
+        let model = Model::<Fx>::new(p).unwrap();
+        let judge_model = reference_model(&p);
+        let predictor = BreakAwayPredictor::new(&model, w_b).unwrap();
+        // Documented range: v_b ≥ 1e-3·V, where the Q16.16 velocity
+        // resolution (1.5e-5·V) moves S(v_b) by less than 3e-4·(Fs − Fc)
+        // even for δ = 0.5 (infinite slope of S at v = 0).
+        let travel_per_rate = p.z_max / ((w_b as f64).ln().abs() as f32 * p.v_stribeck);
+        let k_min = 1e-3 / travel_per_rate;
+        let k_q = Fx::from_f32(10f32.powf(log_k).max(k_min)).unwrap();
+        let k = k_q.to_f32() as f64 * p.fs as f64;
+        for variant in Variant::ALL {
+            let judge_variant = reference::Variant::parse(variant.name()).unwrap();
+            let want =
+                reference::predict_break_away(&judge_model, judge_variant, k, w_b as f64).unwrap();
+            let got = predictor.predict(&model, variant, k_q).unwrap();
+            let f_ba = got.f_ba.to_f32() as f64 * p.fs as f64;
+            let error = ((f_ba - want.f_ba) / want.f_ba).abs();
+            worst.record(error, || format!("{variant:?} k={k} w_b={w_b} {p:?}"));
+            prop_assert!(
+                error <= 1e-3,
+                "{variant:?}: F_ba rel. error {error:e} at k = {k}, {p:?}"
+            );
+        }
+        Ok(())
+    });
+    worst.print("fixed point: worst F_ba relative error", "");
 }
 
 #[test]
@@ -189,25 +169,22 @@ fn set_params_in_place_equals_new_and_rejects_without_change() {
         format!("{:?}", Model::<Fx>::UNIT_COULOMB),
         format!("{:?}", Model::<Fx>::new(unit).unwrap())
     );
-    let mut runner = runner(50);
-    runner
-        .run(&params(0.5..2.0), |p| {
-            let mut model = Model::<Fx>::UNIT_COULOMB;
-            model.set_params(p).unwrap();
-            prop_assert_eq!(
-                format!("{model:?}"),
-                format!("{:?}", Model::<Fx>::new(p).unwrap())
-            );
-            let before = format!("{model:?}");
-            let bad = Params {
-                fs: p.fc * 0.5,
-                ..p
-            };
-            prop_assert_eq!(model.set_params(bad), Err(ParamError::StictionBelowCoulomb));
-            prop_assert_eq!(format!("{model:?}"), before);
-            Ok(())
-        })
-        .unwrap();
+    check(50, &params(0.5..2.0), |p| {
+        let mut model = Model::<Fx>::UNIT_COULOMB;
+        model.set_params(p).unwrap();
+        prop_assert_eq!(
+            format!("{model:?}"),
+            format!("{:?}", Model::<Fx>::new(p).unwrap())
+        );
+        let before = format!("{model:?}");
+        let bad = Params {
+            fs: p.fc * 0.5,
+            ..p
+        };
+        prop_assert_eq!(model.set_params(bad), Err(ParamError::StictionBelowCoulomb));
+        prop_assert_eq!(format!("{model:?}"), before);
+        Ok(())
+    });
 }
 
 #[test]

@@ -24,6 +24,39 @@ fn field(fields: &[&str], i: usize, line: &str) -> Result<f64, String> {
         .ok_or_else(|| format!("malformed firmware line `{line}`"))
 }
 
+/// The lines of `example`'s output that start with `tag` ([`records`]),
+/// which must number `count`.
+fn counted<'a>(
+    output: &'a str,
+    tag: &str,
+    example: &str,
+    count: usize,
+) -> Result<Vec<(&'a str, Vec<&'a str>)>, String> {
+    let rows = records(output, tag)?;
+    if rows.len() != count {
+        return Err(format!(
+            "{example} printed {} `{tag}` rows, expected {count}",
+            rows.len()
+        ));
+    }
+    Ok(rows)
+}
+
+/// The reference's break-away (w_b = 0.95) at the force rate `k` [N/s] for
+/// the variant named in column 1 of the `ba` row `fields` of `line`.
+fn reference_break_away(
+    model: &reference::Model,
+    fields: &[&str],
+    line: &str,
+    k: f64,
+) -> Result<reference::BreakAway, String> {
+    let variant = fields
+        .get(1)
+        .and_then(|name| reference::Variant::parse(name))
+        .ok_or_else(|| format!("unknown variant in `{line}`"))?;
+    reference::predict_break_away(model, variant, k, 0.95).map_err(|e| format!("reference: {e}"))
+}
+
 /// The lines of an example's output that start with `tag`, after checking
 /// that the run ended with `done`.
 fn records<'a>(output: &'a str, tag: &str) -> Result<Vec<(&'a str, Vec<&'a str>)>, String> {
@@ -60,22 +93,10 @@ pub fn no_panic(target: Target) -> Result<String, String> {
 pub fn breakaway_table(target: Target) -> Result<String, String> {
     let output = qemu::run_example("breakaway_table", target)?;
     let model = fig5()?;
-    let rows = records(&output, "ba")?;
-    if rows.len() != 4 * 17 {
-        return Err(format!(
-            "breakaway_table printed {} rows, expected 68",
-            rows.len()
-        ));
-    }
+    let rows = counted(&output, "ba", "breakaway_table", 4 * 17)?;
     let mut worst = 0.0f64;
     for (line, fields) in &rows {
-        let variant = fields
-            .get(1)
-            .and_then(|name| reference::Variant::parse(name))
-            .ok_or_else(|| format!("unknown variant in `{line}`"))?;
-        let k = field(fields, 2, line)?;
-        let want = reference::predict_break_away(&model, variant, k, 0.95)
-            .map_err(|e| format!("reference: {e}"))?;
+        let want = reference_break_away(&model, fields, line, field(fields, 2, line)?)?;
         for (i, expected) in [(3, want.v_b), (4, want.f_ba), (5, want.t_ba)] {
             let got = field(fields, i, line)?;
             let error = ((got - expected) / expected).abs();
@@ -100,13 +121,7 @@ pub fn breakaway_table(target: Target) -> Result<String, String> {
 pub fn presliding_loop(target: Target) -> Result<String, String> {
     let output = qemu::run_example("presliding_loop", target)?;
     let model = fig5()?;
-    let rows = records(&output, "s")?;
-    if rows.len() != 1200 {
-        return Err(format!(
-            "presliding_loop printed {} rows, expected 1200",
-            rows.len()
-        ));
-    }
+    let rows = counted(&output, "s", "presliding_loop", 1200)?;
     let count = 1e-8f32;
     // The parameters the firmware runs (the f32 values of fig5.toml).
     let host_model = breakaway::Model::<f32>::new(support::FIG5).map_err(|e| e.to_string())?;
@@ -344,22 +359,11 @@ pub fn fixed_point(target: Target) -> Result<String, String> {
             }
         }
     }
-    let rows = records(&output, "ba")?;
-    if rows.len() != 20 {
-        return Err(format!(
-            "fixed_point printed {} break-away rows, expected 20",
-            rows.len()
-        ));
-    }
+    let rows = counted(&output, "ba", "fixed_point", 20)?;
     let mut worst_ba = 0.0f64;
     for (line, fields) in &rows {
-        let variant = fields
-            .get(1)
-            .and_then(|name| reference::Variant::parse(name))
-            .ok_or_else(|| format!("unknown variant in `{line}`"))?;
         let k = raw(fields, 2, line)? * model.fs;
-        let want = reference::predict_break_away(&model, variant, k, 0.95)
-            .map_err(|e| format!("reference: {e}"))?;
+        let want = reference_break_away(&model, fields, line, k)?;
         // (name, value, reference, unit of the printed raw value)
         let got = [
             ("v_b", raw(fields, 3, line)?, want.v_b, model.v_stribeck),
@@ -484,14 +488,7 @@ fn compare_closed_loop(
             ));
         }
     }
-    let rows = records(&output, "cl")?;
-    if rows.len() != runs.len() {
-        return Err(format!(
-            "{example} printed {} rows, expected {}",
-            rows.len(),
-            runs.len()
-        ));
-    }
+    let rows = counted(&output, "cl", example, runs.len())?;
     let (mut worst_error, mut worst_effort) = (0.0f64, 0.0f64);
     let mut worst_encoder_effort = 0.0f64;
     let (mut worst_error_factor, mut worst_peak_factor) = (1.0f64, 1.0f64);
@@ -591,13 +588,7 @@ fn compare_closed_loop(
 /// f64 reference and compares every printed sample, the last one included.
 pub fn long_run(target: Target) -> Result<String, String> {
     let output = qemu::run_example("long_run", target)?;
-    let rows = records(&output, "s")?;
-    if rows.len() != 101 {
-        return Err(format!(
-            "long_run printed {} samples, expected 101",
-            rows.len()
-        ));
-    }
+    let rows = counted(&output, "s", "long_run", 101)?;
     let mut model = fig5()?;
     (model.delta, model.sigma) = (1.3, 0.2);
     let count = 1e-8f32;

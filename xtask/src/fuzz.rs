@@ -10,38 +10,14 @@ use std::process::Command;
 use crate::{output, root, run};
 
 /// Options of `cargo xtask fuzz`.
+#[derive(clap::Args, Debug)]
 pub struct Options {
-    /// Seconds per target.
+    /// Seconds per target
+    #[arg(long, default_value_t = 60, value_parser = clap::value_parser!(u32).range(1..))]
     pub seconds: u32,
-    /// Only these targets (all when empty).
+    /// Only this target (repeatable; all when none is given)
+    #[arg(long = "target", value_name = "NAME")]
     pub targets: Vec<String>,
-}
-
-impl Options {
-    /// Parses `[--seconds N] [--target NAME]…`.
-    pub fn parse(args: &[String]) -> Result<Self, String> {
-        let mut options = Options {
-            seconds: 60,
-            targets: Vec::new(),
-        };
-        let mut args = args.iter();
-        while let Some(arg) = args.next() {
-            match arg.as_str() {
-                "--seconds" => {
-                    let text = args.next().ok_or("fuzz: --seconds needs a value")?;
-                    options.seconds =
-                        text.parse::<u32>().ok().filter(|s| *s > 0).ok_or_else(|| {
-                            format!("fuzz: --seconds must be a positive integer, got `{text}`")
-                        })?;
-                }
-                "--target" => options
-                    .targets
-                    .push(args.next().ok_or("fuzz: --target needs a value")?.clone()),
-                other => return Err(format!("fuzz: unknown argument `{other}`")),
-            }
-        }
-        Ok(options)
-    }
 }
 
 /// Installs the nightly toolchain and cargo-fuzz when missing.

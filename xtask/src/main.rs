@@ -17,41 +17,106 @@ mod profile;
 mod qemu;
 mod sweep;
 
+use clap::{Parser, Subcommand};
 use std::env;
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
 
-const USAGE: &str = "usage: cargo xtask <setup|demo|test|qemu|profile|fuzz|sweep>
-  setup    install the rustup targets, rustfmt, clippy and qemu-system-arm (where allowed)
-  demo     set up, then run the firmware examples on the Cortex-M4F under QEMU
-  test     set up, then run every check (fmt, clippy, host tests, on-target checks)
-  qemu     [NAME…]  the on-target checks under QEMU (those whose name contains NAME)
-  profile  [--target T] [--rows NAME,…] [--budget-hz 20000] [--cpu-hz 168000000] [--json]
-           instructions per call of the hot functions under QEMU (--rows: only those rows)
-  fuzz     [--seconds 60] [--target NAME]  the cargo-fuzz targets (nightly)
-  sweep    [--seeds 100000..100160] [--kind mixed|model|outside] [--out DIR] [--json FILE]
-           the discrepancy workflow scored on records of the independent generator";
+/// Set-up, demo and the full check of the breakaway workspace.
+#[derive(Parser, Debug)]
+#[command(name = "cargo xtask", bin_name = "cargo xtask")]
+struct Cli {
+    #[command(subcommand)]
+    command: Task,
+}
+
+#[derive(Subcommand, Debug)]
+enum Task {
+    /// Install the rustup targets, rustfmt, clippy and qemu-system-arm (where allowed)
+    Setup,
+    /// Set up, then run the firmware examples on the Cortex-M4F under QEMU
+    Demo,
+    /// Set up, then run every check (fmt, clippy, host tests, on-target checks)
+    Test,
+    /// The on-target checks under QEMU
+    Qemu {
+        /// Only the checks whose name contains NAME
+        #[arg(value_name = "NAME")]
+        names: Vec<String>,
+    },
+    /// Instructions per call of the hot functions under QEMU
+    Profile(ProfileArgs),
+    /// The cargo-fuzz targets (nightly)
+    Fuzz(fuzz::Options),
+    /// The discrepancy workflow scored on records of the independent generator
+    Sweep(sweep::Args),
+}
+
+/// The arguments of `cargo xtask profile`.
+#[derive(clap::Args, Debug)]
+struct ProfileArgs {
+    /// Profile on this target only (repeatable; all when none is given)
+    #[arg(long = "target", value_name = "T", value_parser = qemu::target)]
+    targets: Vec<qemu::Target>,
+    /// Only these rows (the example is built with the others left out)
+    #[arg(long, value_name = "NAME,...", value_delimiter = ',', value_parser = row)]
+    rows: Vec<String>,
+    /// Control-loop rate [Hz]
+    #[arg(long, value_name = "HZ", default_value = "20000", value_parser = positive)]
+    budget_hz: f64,
+    /// CPU clock [Hz]
+    #[arg(long, value_name = "HZ", default_value = "168000000", value_parser = positive)]
+    cpu_hz: f64,
+    /// Print JSON instead of the table
+    #[arg(long)]
+    json: bool,
+}
+
+impl ProfileArgs {
+    fn options(self) -> profile::Options {
+        let defaults = profile::Options::default();
+        profile::Options {
+            targets: if self.targets.is_empty() {
+                defaults.targets
+            } else {
+                self.targets
+            },
+            budget_hz: self.budget_hz,
+            cpu_hz: self.cpu_hz,
+            json: self.json,
+            rows: self.rows,
+        }
+    }
+}
+
+/// A row name of the profile.
+fn row(name: &str) -> Result<String, String> {
+    if profile::ROWS.iter().any(|(_, n)| *n == name) {
+        Ok(name.to_string())
+    } else {
+        let known: Vec<&str> = profile::ROWS.iter().map(|(_, n)| *n).collect();
+        Err(format!("unknown row (known: {})", known.join(", ")))
+    }
+}
+
+/// A finite positive number.
+fn positive(text: &str) -> Result<f64, String> {
+    text.parse::<f64>()
+        .ok()
+        .filter(|x| x.is_finite() && *x > 0.0)
+        .ok_or_else(|| "must be a positive number".to_string())
+}
 
 fn main() -> ExitCode {
-    let args: Vec<String> = env::args().skip(1).collect();
-    let result = match args.first().map(String::as_str) {
-        Some("setup") => setup(),
-        Some("demo") => setup().and_then(|()| demo()),
-        Some("test") => setup().and_then(|()| test()),
-        Some("qemu") => setup().and_then(|()| {
-            checks::all(&args[1..]).map(|lines| lines.iter().for_each(|l| println!("{l}")))
-        }),
-        Some("profile") => profile::Options::parse(&args[1..])
-            .and_then(|o| setup().and_then(|()| profile::run(&o))),
-        Some("fuzz") => fuzz::Options::parse(&args[1..])
-            .and_then(|o| setup().and_then(|()| fuzz::fuzz(&o)))
-            .map(|lines| lines.iter().for_each(|l| println!("{l}"))),
-        Some("sweep") => sweep::Options::parse(&args[1..]).and_then(|o| sweep::command(&o)),
-        Some("-h" | "--help") => {
-            println!("{USAGE}");
-            Ok(())
-        }
-        _ => Err(USAGE.to_string()),
+    let print = |lines: Vec<String>| lines.iter().for_each(|l| println!("{l}"));
+    let result = match Cli::parse().command {
+        Task::Setup => setup(),
+        Task::Demo => setup().and_then(|()| demo()),
+        Task::Test => setup().and_then(|()| test()),
+        Task::Qemu { names } => setup().and_then(|()| checks::all(&names).map(print)),
+        Task::Profile(args) => setup().and_then(|()| profile::run(&args.options())),
+        Task::Fuzz(options) => setup().and_then(|()| fuzz::fuzz(&options).map(print)),
+        Task::Sweep(args) => sweep::command(&args.options()),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -283,4 +348,54 @@ fn test() -> Result<(), String> {
         println!("fuzz: {line}");
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::CommandFactory;
+
+    #[test]
+    fn the_command_line_is_consistent() {
+        Cli::command().debug_assert();
+    }
+
+    fn parses(line: &str) -> bool {
+        let argv = std::iter::once("xtask").chain(line.split_whitespace());
+        Cli::try_parse_from(argv).is_ok()
+    }
+
+    #[test]
+    fn the_documented_calls_parse() {
+        for line in [
+            "demo",
+            "test",
+            "qemu closed_loop long_run",
+            "profile --target thumbv6m-none-eabi --rows update_f32,stribeck_f32 --json",
+            "fuzz --seconds 10 --target presliding",
+            "sweep --seeds 700000..700160 --kind mixed --out /tmp/x --json /tmp/x.json",
+        ] {
+            assert!(parses(line), "{line}");
+        }
+        for line in [
+            "profile --rows nothing",
+            "profile --budget-hz 0",
+            "profile --target x86",
+            "fuzz --seconds 0",
+            "sweep --seeds 5..5",
+            "sweep --kind any",
+            "unknown",
+        ] {
+            assert!(!parses(line), "{line}");
+        }
+        let Ok(Cli {
+            command: Task::Sweep(args),
+        }) = Cli::try_parse_from(["xtask", "sweep"])
+        else {
+            panic!("sweep");
+        };
+        let o = args.options();
+        assert_eq!((o.from, o.to, o.kind.as_str()), (100_000, 100_160, "mixed"));
+        assert_eq!(o.out, root().join("target/sweep"));
+    }
 }

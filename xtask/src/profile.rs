@@ -55,7 +55,7 @@ use std::time::{Duration, Instant};
 use crate::qemu::{self, Target};
 
 /// Rows of the profile: the wrapper symbol and the reported name.
-const ROWS: [(&str, &str); 9] = [
+pub(crate) const ROWS: [(&str, &str); 9] = [
     ("bench_update_f32", "update_f32"),
     ("bench_stribeck_f32", "stribeck_f32"),
     ("bench_shape_f32", "shape_f32"),
@@ -137,54 +137,6 @@ impl Default for Options {
             json: false,
             rows: Vec::new(),
         }
-    }
-}
-
-impl Options {
-    /// Parses `[--target T] [--rows NAME,…] [--budget-hz H] [--cpu-hz H]
-    /// [--json]`.
-    pub fn parse(args: &[String]) -> Result<Self, String> {
-        let mut options = Options::default();
-        let mut targets = Vec::new();
-        let mut args = args.iter();
-        while let Some(arg) = args.next() {
-            let mut value = |name: &str| {
-                args.next()
-                    .cloned()
-                    .ok_or_else(|| format!("profile: {name} needs a value"))
-            };
-            let number = |name: &str, text: String| {
-                text.parse::<f64>()
-                    .ok()
-                    .filter(|x| x.is_finite() && *x > 0.0)
-                    .ok_or_else(|| {
-                        format!("profile: {name} must be a positive number, got `{text}`")
-                    })
-            };
-            match arg.as_str() {
-                "--target" => targets.push(qemu::target(&value("--target")?)?),
-                "--budget-hz" => options.budget_hz = number("--budget-hz", value("--budget-hz")?)?,
-                "--cpu-hz" => options.cpu_hz = number("--cpu-hz", value("--cpu-hz")?)?,
-                "--json" => options.json = true,
-                "--rows" => {
-                    for name in value("--rows")?.split(',') {
-                        if !ROWS.iter().any(|(_, n)| *n == name) {
-                            let known: Vec<&str> = ROWS.iter().map(|(_, n)| *n).collect();
-                            return Err(format!(
-                                "profile: unknown row `{name}` (known: {})",
-                                known.join(", ")
-                            ));
-                        }
-                        options.rows.push(name.to_string());
-                    }
-                }
-                other => return Err(format!("profile: unknown argument `{other}`")),
-            }
-        }
-        if !targets.is_empty() {
-            options.targets = targets;
-        }
-        Ok(options)
     }
 }
 

@@ -39,47 +39,47 @@ pub struct Options {
     pub json: Option<PathBuf>,
 }
 
-impl Options {
-    /// Parses `--seeds A..B --kind K --out DIR --json FILE`.
-    pub fn parse(args: &[String]) -> Result<Options, String> {
-        let mut o = Options {
-            from: 100_000,
-            to: 100_160,
-            kind: "mixed".into(),
-            out: root().join("target/sweep"),
-            json: None,
-        };
-        let mut it = args.iter();
-        while let Some(a) = it.next() {
-            let mut value = || {
-                it.next()
-                    .cloned()
-                    .ok_or_else(|| format!("sweep: {a} needs a value"))
-            };
-            match a.as_str() {
-                "--seeds" => {
-                    let v = value()?;
-                    let (a, b) = v
-                        .split_once("..")
-                        .ok_or_else(|| format!("sweep: --seeds wants A..B, got `{v}`"))?;
-                    o.from = a
-                        .parse()
-                        .map_err(|_| format!("sweep: --seeds: `{a}` is not a seed"))?;
-                    o.to = b
-                        .parse()
-                        .map_err(|_| format!("sweep: --seeds: `{b}` is not a seed"))?;
-                    if o.to <= o.from {
-                        return Err(format!("sweep: --seeds {v} is empty"));
-                    }
-                }
-                "--kind" => o.kind = value()?,
-                "--out" => o.out = PathBuf::from(value()?),
-                "--json" => o.json = Some(PathBuf::from(value()?)),
-                other => return Err(format!("sweep: unknown argument `{other}`")),
-            }
+/// The arguments of `cargo xtask sweep`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// The generator's seeds A..B (B excluded)
+    #[arg(long, value_name = "A..B", default_value = "100000..100160", value_parser = seeds)]
+    seeds: (u64, u64),
+    /// The kind of record the generator draws
+    #[arg(long, default_value = "mixed", value_parser = ["model", "outside", "steady", "mixed"])]
+    kind: String,
+    /// Where the records and reports go [default: target/sweep]
+    #[arg(long, value_name = "DIR")]
+    out: Option<PathBuf>,
+    /// Where the JSON summary goes (it is also printed)
+    #[arg(long, value_name = "FILE")]
+    json: Option<PathBuf>,
+}
+
+impl Args {
+    /// The options these arguments ask for.
+    pub fn options(self) -> Options {
+        Options {
+            from: self.seeds.0,
+            to: self.seeds.1,
+            kind: self.kind,
+            out: self.out.unwrap_or_else(|| root().join("target/sweep")),
+            json: self.json,
         }
-        Ok(o)
     }
+}
+
+/// Parses `A..B` with A < B.
+fn seeds(text: &str) -> Result<(u64, u64), String> {
+    let (a, b) = text
+        .split_once("..")
+        .ok_or_else(|| format!("wants A..B, got `{text}`"))?;
+    let seed = |s: &str| s.parse::<u64>().map_err(|_| format!("`{s}` is not a seed"));
+    let (from, to) = (seed(a)?, seed(b)?);
+    if to <= from {
+        return Err(format!("{text} is empty"));
+    }
+    Ok((from, to))
 }
 
 /// The score of one record.
@@ -302,6 +302,14 @@ fn progress_bar(total: usize) -> ProgressBar {
     bar
 }
 
+/// The distinct names, sorted.
+fn distinct(names: impl Iterator<Item = String>) -> Vec<String> {
+    let mut v: Vec<String> = names.collect();
+    v.sort();
+    v.dedup();
+    v
+}
+
 fn median(mut v: Vec<f64>) -> f64 {
     v.retain(|x| x.is_finite());
     if v.is_empty() {
@@ -426,9 +434,7 @@ pub fn summary(scored: &[Scored]) -> Summary {
         (20.0, 50.0),
         (50.0, f64::INFINITY),
     ];
-    let mut effects: Vec<String> = scored.iter().flat_map(|s| s.hidden.clone()).collect();
-    effects.sort();
-    effects.dedup();
+    let effects = distinct(scored.iter().flat_map(|s| s.hidden.clone()));
     let per_effect = effects
         .into_iter()
         .map(|e| {
@@ -473,9 +479,7 @@ pub fn summary(scored: &[Scored]) -> Summary {
                 .collect::<Vec<_>>()
         })
         .collect();
-    let mut plants: Vec<String> = scored.iter().map(|s| s.plant.clone()).collect();
-    plants.sort();
-    plants.dedup();
+    let plants = distinct(scored.iter().map(|s| s.plant.clone()));
     let per_plant = plants
         .into_iter()
         .map(|plant| {

@@ -6,11 +6,12 @@
 #![allow(dead_code)] // each test file uses its own subset
 
 use std::ops::Range;
+use std::sync::Mutex;
 
 use breakaway::Params;
 use breakaway_reference as reference;
 use proptest::prelude::*;
-use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
+use proptest::test_runner::{Config, RngAlgorithm, TestCaseResult, TestRng, TestRunner};
 
 #[path = "../../../tests/support/mod.rs"]
 mod support;
@@ -115,6 +116,46 @@ pub fn runner(cases: u32) -> TestRunner {
         },
         TestRng::deterministic_rng(RngAlgorithm::ChaCha),
     )
+}
+
+/// Runs `cases` cases of `strategy` through `test` on the deterministic
+/// runner; panics with the failing case (shrunk).
+pub fn check<S: Strategy>(cases: u32, strategy: &S, test: impl Fn(S::Value) -> TestCaseResult) {
+    if let Err(e) = runner(cases).run(strategy, test) {
+        panic!("{e}");
+    }
+}
+
+/// The worst error of a randomized test and the case that gave it.
+pub struct Worst(Mutex<(f64, String)>);
+
+impl Worst {
+    pub const fn new() -> Self {
+        Worst(Mutex::new((0.0, String::new())))
+    }
+
+    /// Keeps `error` when it is the worst so far, with its case (described
+    /// only then).
+    pub fn record(&self, error: f64, case: impl FnOnce() -> String) {
+        let mut worst = self.0.lock().unwrap();
+        if error > worst.0 {
+            *worst = (error, case());
+        }
+    }
+
+    /// Records `error` for `case` and fails the case where `error`
+    /// exceeds `bound`.
+    pub fn within(&self, error: f64, bound: f64, case: impl Fn() -> String) -> TestCaseResult {
+        self.record(error, &case);
+        prop_assert!(error <= bound, "error {error:e} > {bound:e} for {}", case());
+        Ok(())
+    }
+
+    /// Prints `what = <worst><unit> (<case>)`.
+    pub fn print(&self, what: &str, unit: &str) {
+        let worst = self.0.lock().unwrap();
+        println!("{what} = {:.3e}{unit} ({})", worst.0, worst.1);
+    }
 }
 
 /// m·ẍ = u − F with F from the reference `Friction`, integrated by
