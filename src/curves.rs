@@ -87,6 +87,9 @@ pub struct CurvesF32 {
     /// Fs = 2.3e-38 N, δ = 4.9e7).
     low: f32,
     high: f32,
+    /// bits(high) − bits(low): s is in [low, high] when bits(s) − bits(low),
+    /// wrapping, is at most this.
+    span: u32,
     stribeck: StribeckTable,
 }
 
@@ -206,6 +209,7 @@ impl Curves<f32> for CurvesF32 {
             delta: 1.0,
             low: 0.0,
             high: 0.0,
+            span: 0,
             stribeck: StribeckTable::EMPTY,
         };
         curves.rebuild(p);
@@ -217,6 +221,7 @@ impl Curves<f32> for CurvesF32 {
         let (fc, rise, delta) = (p.fc, p.fs - p.fc, p.delta);
         (self.fc, self.rise, self.inv_v, self.delta) = (fc, rise, 1.0 / p.v_stribeck, delta);
         (self.low, self.high) = (p.fc.min(p.fs), p.fc.max(p.fs));
+        self.span = self.high.to_bits().wrapping_sub(self.low.to_bits());
         (self.v_stribeck, self.mean) = (p.v_stribeck, fc + 0.5 * rise);
         // d(u·S)/du = Fc + (Fs − Fc)·e^(−x)·(1 − δ·x) with x = u^δ, least
         // at x = 1 + 1/δ, where it is Fc − (Fs − Fc)·δ·e^(−1 − 1/δ); a
@@ -229,22 +234,49 @@ impl Curves<f32> for CurvesF32 {
     #[inline(always)]
     fn stribeck(&self, v: f32) -> f32 {
         let u = libm::fabsf(v) * self.inv_v;
-        let bits = u.to_bits();
-        let table = &self.stribeck;
-        let index = (bits >> table.shift).wrapping_sub(table.base);
-        if let Some(&[scale, offset, c0, c1, c2, c3, c4, c5, c6, c7]) =
-            table.segments.get(index as usize)
-        {
-            let x = offset + u * scale;
-            let s = c0 + x * (c1 + x * (c2 + x * (c3 + x * (c4 + x * (c5 + x * (c6 + x * c7))))));
-            return self.clamp(s);
+        match self.segment_value(u) {
+            Some(s) => s,
+            None => self.stribeck_outside(u),
         }
-        self.stribeck_outside(u)
     }
 
     #[inline]
     fn shape(&self, w: f32) -> f32 {
         shape_f32(w)
+    }
+
+    /// Above the table Fc, below it Fs where the table reaches
+    /// u^δ = 2⁻²²; `None` below a table that does not (δ < 0.82).
+    #[inline(always)]
+    fn stribeck_fast(&self, v: f32) -> Option<f32> {
+        let u = libm::fabsf(v) * self.inv_v;
+        if let Some(s) = self.segment_value(u) {
+            return Some(s);
+        }
+        let table = &self.stribeck;
+        if u.to_bits() >> table.shift >= table.base {
+            Some(self.fc)
+        } else if table.steady_below || u < f32::MIN_POSITIVE {
+            Some(self.fc + self.rise)
+        } else {
+            None
+        }
+    }
+
+    /// One unsigned test of the bits of w for the table's rows; then
+    /// w ≥ 1 (and NaN), the series from 0.875; `None` below 2⁻²⁴.
+    #[inline(always)]
+    fn shape_fast(&self, w: f32) -> Option<Option<f32>> {
+        if let Some(g) = shape_row(w) {
+            Some(Some(g))
+        } else if w < 0.875 {
+            // Below 2⁻²⁴, or w ≤ 0.
+            None
+        } else if w < 1.0 {
+            Some(Some(shape_near_one(w)))
+        } else {
+            Some(None)
+        }
     }
 
     /// Newton's iteration on h(u) = u·S(u) − y (u = v/V, y = c/V) with the
@@ -323,6 +355,27 @@ impl CurvesF32 {
         }
     }
 
+    /// S(u) at u = |v|/V ≥ 0 from its segment of the table, clamped to
+    /// [min(Fc, Fs), max(Fc, Fs)]; `None` outside the table.
+    #[inline(always)]
+    fn segment_value(&self, u: f32) -> Option<f32> {
+        let table = &self.stribeck;
+        let index = (u.to_bits() >> table.shift).wrapping_sub(table.base);
+        let &[scale, offset, c0, c1, c2, c3, c4, c5, c6, c7] =
+            table.segments.get(index as usize)?;
+        let x = offset + u * scale;
+        let s = c0 + x * (c1 + x * (c2 + x * (c3 + x * (c4 + x * (c5 + x * (c6 + x * c7))))));
+        // 0 < low ≤ high: s is in [low, high] exactly when its bits are, as
+        // unsigned integers (a negative s or a NaN has bits above those of
+        // every positive float): one unsigned comparison of the bits' offset
+        // from low's; `clamp` only outside.
+        if s.to_bits().wrapping_sub(self.low.to_bits()) <= self.span {
+            Some(s)
+        } else {
+            Some(self.clamp(s))
+        }
+    }
+
     /// S(u) and dS/du at u = |v|/V ≥ 0 from the table (the polynomial and
     /// its derivative, not clamped), or outside it.
     #[inline(always)]
@@ -394,6 +447,16 @@ fn power(u: f32, delta: f32) -> f32 {
 /// between its two ends. Absolute error 8.1e-8 (measured against `f64`).
 #[inline]
 pub fn shape_f32(w: f32) -> f32 {
+    match shape_row(w) {
+        Some(g) => g,
+        None => shape_outside(w),
+    }
+}
+
+/// g(w) for w from 2⁻²⁴ to 0.875, by its row of the table; `None` for
+/// every other w (w ≤ 0, w < 2⁻²⁴, w ≥ 0.875 and NaN).
+#[inline(always)]
+fn shape_row(w: f32) -> Option<f32> {
     let bits = w.to_bits();
     // Four segments per octave: the exponent and the top two mantissa
     // bits; row 0 starts at 2⁻²⁴ (exponent field 103). Rows up to 0.875
@@ -401,12 +464,12 @@ pub fn shape_f32(w: f32) -> f32 {
     // w ≥ 0.875, w < 2⁻²⁴ and NaN all fall outside.
     let row = bits.wrapping_sub(103 << 23) >> 21;
     if row < SHAPE_ROWS_USED {
-        if let Some(&[scale, offset, c0, c1, c2, c3, c4]) = SHAPE_F32.get(row as usize) {
+        if let Some(&[scale, offset, c0, c1, c2, c3, c4, _]) = SHAPE_F32.get(row as usize) {
             let x = offset + w * scale;
-            return c0 + x * (c1 + x * (c2 + x * (c3 + x * c4)));
+            return Some(c0 + x * (c1 + x * (c2 + x * (c3 + x * c4))));
         }
     }
-    shape_outside(w)
+    None
 }
 
 /// Rows of `SHAPE_F32` used: w from 2⁻²⁴ to 0.875.
@@ -418,14 +481,7 @@ fn shape_outside(w: f32) -> f32 {
     if w >= 1.0 {
         1.0
     } else if w >= 0.875 {
-        // Near w = 1, g is flat (g′ = −ln w → 0) and w·(1 − ln w) would
-        // round non-monotonically. With u = 1 − w (exact here),
-        // 1 − g = Σₙ≥₂ uⁿ/(n(n − 1)); six terms leave < 4e-10 for
-        // u ≤ 0.125, and 1 − (a monotone polynomial with positive
-        // coefficients) rounds monotonically.
-        let u = 1.0 - w;
-        let tail = 1.0 / 20.0 + u * (1.0 / 30.0 + u * (1.0 / 42.0));
-        1.0 - u * u * (0.5 + u * (1.0 / 6.0 + u * (1.0 / 12.0 + u * tail)))
+        shape_near_one(w)
     } else if w > 0.0 {
         // Below 2⁻²⁴ (and below the smallest normal float, where the
         // exponent is taken as −127: g is then off by less than 2e-37).
@@ -434,6 +490,18 @@ fn shape_outside(w: f32) -> f32 {
         // w ≤ 0 or NaN.
         0.0
     }
+}
+
+/// g(w) for w in [0.875, 1). Near w = 1, g is flat (g′ = −ln w → 0) and
+/// w·(1 − ln w) would round non-monotonically. With u = 1 − w (exact
+/// here), 1 − g = Σₙ≥₂ uⁿ/(n(n − 1)); six terms leave < 4e-10 for
+/// u ≤ 0.125, and 1 − (a monotone polynomial with positive coefficients)
+/// rounds monotonically.
+#[inline(always)]
+fn shape_near_one(w: f32) -> f32 {
+    let u = 1.0 - w;
+    let tail = 1.0 / 20.0 + u * (1.0 / 30.0 + u * (1.0 / 42.0));
+    1.0 - u * u * (0.5 + u * (1.0 / 6.0 + u * (1.0 / 12.0 + u * tail)))
 }
 
 /// ln w for the `bits` of a positive `w` below 1 (no check): e·ln 2 + ln m

@@ -632,6 +632,10 @@ impl<const K: usize> Position<Q16<K>> for i32 {
     fn travel_from(self, origin: Self, scale: CountScale) -> Q16<K> {
         scale.apply(self.wrapping_sub(origin))
     }
+    #[inline(always)]
+    fn not_behind(self, origin: Self, direction: i8) -> bool {
+        crate::position::counts_not_behind(self.wrapping_sub(origin), direction)
+    }
 }
 
 /// As for `i32`, on the low 32 bits (see the `f32` implementation).
@@ -650,6 +654,10 @@ impl<const K: usize> Position<Q16<K>> for i64 {
     #[inline(always)]
     fn travel_from(self, origin: Self, scale: CountScale) -> Q16<K> {
         scale.apply((self as i32).wrapping_sub(origin as i32))
+    }
+    #[inline(always)]
+    fn not_behind(self, origin: Self, direction: i8) -> bool {
+        crate::position::counts_not_behind((self as i32).wrapping_sub(origin as i32), direction)
     }
 }
 

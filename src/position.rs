@@ -36,6 +36,26 @@ pub trait Position<T: Scalar>: Copy {
     /// The travel `self − origin` in model length units, given the scale of
     /// the sample type.
     fn travel_from(self, origin: Self, scale: Self::Scale) -> T;
+    /// `true` when d·[`travel_from`](Self::travel_from)`(origin, scale)`
+    /// is certainly not negative for the direction d = `direction` (±1),
+    /// whatever the scale; `false` when it may be (the travel is then
+    /// computed). The state machine's test for a reversal; the default
+    /// never rules one out.
+    #[doc(hidden)]
+    #[inline(always)]
+    fn not_behind(self, origin: Self, direction: i8) -> bool {
+        let _ = (origin, direction);
+        false
+    }
+}
+
+/// d·(a − b) ≥ 0 for counts whose wrapping difference a − b is `difference`
+/// (the travel is the difference times a positive scale, rounded:
+/// monotone, 0 at 0). The product wraps only for a difference of −2³¹
+/// and d = −1, to −2³¹: then `false`, which is always allowed.
+#[inline(always)]
+pub(crate) fn counts_not_behind(difference: i32, direction: i8) -> bool {
+    difference.wrapping_mul(i32::from(direction)) >= 0
 }
 
 /// A float scale [m per unit] is valid when finite and positive.
@@ -78,6 +98,10 @@ impl Position<f32> for i32 {
     fn travel_from(self, origin: Self, metres_per_unit: f32) -> f32 {
         self.wrapping_sub(origin) as f32 * metres_per_unit
     }
+    #[inline(always)]
+    fn not_behind(self, origin: Self, direction: i8) -> bool {
+        counts_not_behind(self.wrapping_sub(origin), direction)
+    }
 }
 
 /// As for `i32`, the difference is taken on the low 32 bits (wrapping), so
@@ -102,5 +126,9 @@ impl Position<f32> for i64 {
     #[inline(always)]
     fn travel_from(self, origin: Self, metres_per_unit: f32) -> f32 {
         (self as i32).wrapping_sub(origin as i32) as f32 * metres_per_unit
+    }
+    #[inline(always)]
+    fn not_behind(self, origin: Self, direction: i8) -> bool {
+        counts_not_behind((self as i32).wrapping_sub(origin as i32), direction)
     }
 }
