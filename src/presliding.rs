@@ -242,12 +242,26 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
         coulomb: bool,
     ) -> Result<T, SampleError> {
         let viscous = model.sigma * velocity;
-        // A NaN or infinite velocity makes σ·v NaN or ±∞ (σ = 0
-        // included): not moderate.
-        if N != 0 || !viscous.is_moderate() || !position.is_valid() {
+        if N != 0 || !position.is_valid() {
             self.update_general(model, position, velocity, coulomb)?;
             return Ok(self.force);
         }
+        // S first (it does not depend on the state), with the test that σ·v
+        // is moderate; a NaN or infinite velocity makes σ·v NaN or ±∞
+        // (σ = 0 included): not moderate.
+        let level = if coulomb {
+            if viscous.is_moderate() {
+                Some(model.fc)
+            } else {
+                None
+            }
+        } else {
+            model.curves.stribeck_fast(velocity, viscous)
+        };
+        let Some(level) = level else {
+            self.update_general(model, position, velocity, coulomb)?;
+            return Ok(self.force);
+        };
         if self.direction == 0 {
             // The idle start, as in `update_general` (σ·v is finite).
             let moved = position.travel_from(self.base.position, self.scale);
@@ -274,15 +288,6 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
             self.force = self.dry + viscous;
             return Ok(self.force);
         }
-        let level = if coulomb {
-            Some(model.fc)
-        } else {
-            model.curves.stribeck_fast(velocity)
-        };
-        let Some(level) = level else {
-            self.update_general(model, position, velocity, coulomb)?;
-            return Ok(self.force);
-        };
         if reversed {
             self.reverse();
         }

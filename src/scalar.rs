@@ -165,12 +165,21 @@ pub trait Curves<T>: Sized + Clone {
     /// 1 for `w ≥ 1` ([presliding](crate::model_overview#presliding)).
     fn shape(&self, w: T) -> T;
     /// S(v) as [`stribeck`](Self::stribeck) where it is evaluated without
-    /// a call, `None` elsewhere: the state machine's straight path, which
-    /// then leaves the sample to its general path.
+    /// a call and `viscous` (σ·v) is [moderate](Scalar::is_moderate),
+    /// `None` elsewhere: the state machine's straight path, which then
+    /// leaves the sample to its general path. A table may skip the test of
+    /// σ·v where |v| inside it bounds σ·v by construction.
     #[doc(hidden)]
     #[inline(always)]
-    fn stribeck_fast(&self, v: T) -> Option<T> {
-        Some(self.stribeck(v))
+    fn stribeck_fast(&self, v: T, viscous: T) -> Option<T>
+    where
+        T: Scalar,
+    {
+        if viscous.is_moderate() {
+            Some(self.stribeck(v))
+        } else {
+            None
+        }
     }
     /// The state machine's test for gross sliding and g in one (a table
     /// can test the range of `w` once for both): `Some(Some(g(w)))` for
