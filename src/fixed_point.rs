@@ -223,11 +223,21 @@ fn mul_split_in_range(a: i32, b: i32) -> i32 {
 /// tracked) and r = (m mod 2¹⁶) + ⌊(a_l·b_l + 2¹⁵)/2¹⁶⌋ < 2¹⁷, the result
 /// is H·2¹⁶ + (r mod 2¹⁶) with H = a_h·b_h + ⌊m/2¹⁶⌋ + ⌊r/2¹⁶⌋, which fits
 /// `i32` exactly when −2¹⁵ ≤ H < 2¹⁵ and has the sign of H.
+///
+/// Fast path, for 0 ≤ a < 2¹⁶ (a_h = 0: a factor in [0, 1), such as the
+/// viscous coefficient σ of most models in Q16.16 units): the result is
+/// a_l·b_h + ⌊(a_l·b_l + 2¹⁵)/2¹⁶⌋ exactly, two products; |a_l·b_h| ≤
+/// (2¹⁶ − 1)·2¹⁵ and the second term is at most 2¹⁶, so the sum fits
+/// `i32` and needs no saturation (|a·b/2¹⁶| < |b|).
 #[inline(always)]
 #[cfg_attr(not(breakaway_armv6m), allow(dead_code))]
 fn mul_split_saturated(a: i32, b: i32) -> i32 {
     let (ah, al) = (a >> 16, a & 0xffff);
     let (bh, bl) = (b >> 16, b & 0xffff);
+    if ah == 0 {
+        let low = ((al as u32).wrapping_mul(bl as u32).wrapping_add(1 << 15) >> 16) as i32;
+        return al.wrapping_mul(bh).wrapping_add(low);
+    }
     let (m, overflow) = ah.wrapping_mul(bl).overflowing_add(al.wrapping_mul(bh));
     // When the sum overflowed, its true value is m ± 2³², of the sign
     // opposite to m's.
@@ -1054,6 +1064,16 @@ mod tests {
         }
         for _ in 0..4_000_000 {
             let (a, b) = (next() >> (next() & 31), next() >> (next() & 31));
+            assert_eq!(mul_split_saturated(a, b), want(a, b), "{a} × {b}");
+        }
+        // The fast path (0 ≤ a < 2¹⁶) against every kind of b.
+        for &b in &extremes {
+            for a in [0, 1, 32767, 32768, 65534, 65535] {
+                assert_eq!(mul_split_saturated(a, b), want(a, b), "{a} × {b}");
+            }
+        }
+        for _ in 0..4_000_000 {
+            let (a, b) = (next() & 0xffff, next() >> (next() & 31));
             assert_eq!(mul_split_saturated(a, b), want(a, b), "{a} × {b}");
         }
     }
