@@ -155,13 +155,14 @@ fn curve_tables() -> String {
     let _ = writeln!(
         out,
         "/// g(w) on segment j of octave e (row 4·(e + {SHAPE_F32_OCTAVES}) + j), w = 2ᵉ·(1 + (j + (x + 1)/2)/4):\n\
-         /// [scale, offset, c_0, …] with x = scale·w + offset in [−1, 1) and g = Σ_m c_m·xᵐ\n\
-         /// (Chebyshev interpolation, degree {SHAPE_F32_DEGREE})."
+         /// [scale, offset, c_0, …, 0] with x = scale·w + offset in [−1, 1) and g = Σ_m c_m·xᵐ\n\
+         /// (Chebyshev interpolation, degree {SHAPE_F32_DEGREE}); the last column pads a row to\n\
+         /// 32 bytes, so that its address is one shifted add."
     );
     let _ = writeln!(
         out,
         "const SHAPE_F32: [[f32; {}]; 4 * SHAPE_F32_OCTAVES] = [",
-        SHAPE_F32_DEGREE + 3
+        SHAPE_F32_DEGREE + 4
     );
     for row in 0..4 * SHAPE_F32_OCTAVES {
         let (e, j) = ((row / 4) as i32 - SHAPE_F32_OCTAVES as i32, row % 4);
@@ -182,7 +183,7 @@ fn curve_tables() -> String {
             let c: f64 = fit.iter().zip(&values).map(|(a, y)| a * y).sum();
             let _ = write!(out, "{:e}, ", c as f32);
         }
-        out.push_str("],\n");
+        out.push_str("0.0],\n");
     }
     out.push_str("];\n");
     let (nodes, a) = chebyshev_fit(STRIBECK_DEGREE);

@@ -186,9 +186,11 @@ fn mul_wide(a: i32, b: i32) -> i64 {
 /// 32 × 32 → 64 multiply (the 64-bit product would be a library call).
 /// With a = a_h·2¹⁶ + a_l (a_l unsigned 16 bits), likewise b, the result is
 /// a_h·b_h·2¹⁶ + a_h·b_l + a_l·b_h + ⌊(a_l·b_l + 2¹⁵)/2¹⁶⌋ exactly; each
-/// product fits 32 bits (|a_h·b_l| < 2³¹, a_l·b_l + 2¹⁵ < 2³²).
+/// product fits 32 bits (|a_h·b_l| < 2³¹, a_l·b_l + 2¹⁵ < 2³²). The
+/// reference of the 32-bit forms ([`mul_split_in_range`],
+/// [`mul_split_saturated`]) in the tests.
 #[inline(always)]
-#[cfg_attr(not(breakaway_armv6m), allow(dead_code))]
+#[cfg_attr(not(test), allow(dead_code))]
 fn mul_split(a: i32, b: i32) -> i64 {
     let (ah, al) = (a >> 16, a & 0xffff);
     let (bh, bl) = (b >> 16, b & 0xffff);
@@ -198,17 +200,44 @@ fn mul_split(a: i32, b: i32) -> i64 {
     high.wrapping_add(middle).wrapping_add(low)
 }
 
+/// [`mul_split`] where the result fits `i32`, in wrapping 32-bit
+/// arithmetic: every term and the sum are then exact modulo 2³², and so
+/// is the result, which fits (a_l·b_l + 2¹⁵ < 2³² does not wrap). For any
+/// operands it is `mul_split(a, b) as i32` (the same sum modulo 2³²), the
+/// value the ARMv7-M path (`mul_wide(a, b) as i32`) gives too.
+#[inline(always)]
+#[cfg_attr(not(breakaway_armv6m), allow(dead_code))]
+fn mul_split_in_range(a: i32, b: i32) -> i32 {
+    let (ah, al) = (a >> 16, a & 0xffff);
+    let (bh, bl) = (b >> 16, b & 0xffff);
+    let low = ((al as u32).wrapping_mul(bl as u32).wrapping_add(1 << 15) >> 16) as i32;
+    (ah.wrapping_mul(bh) << 16)
+        .wrapping_add(ah.wrapping_mul(bl))
+        .wrapping_add(al.wrapping_mul(bh))
+        .wrapping_add(low)
+}
+
 /// [`mul_split`] saturated to `i32`, in 32-bit arithmetic (the 64-bit sums
 /// and the 64-bit saturation test cost some 25 instructions more on
 /// ARMv6-M): with the middle sum m = a_h·b_l + a_l·b_h (its overflow
 /// tracked) and r = (m mod 2¹⁶) + ⌊(a_l·b_l + 2¹⁵)/2¹⁶⌋ < 2¹⁷, the result
 /// is H·2¹⁶ + (r mod 2¹⁶) with H = a_h·b_h + ⌊m/2¹⁶⌋ + ⌊r/2¹⁶⌋, which fits
 /// `i32` exactly when −2¹⁵ ≤ H < 2¹⁵ and has the sign of H.
+///
+/// Fast path, for 0 ≤ a < 2¹⁶ (a_h = 0: a factor in [0, 1), such as the
+/// viscous coefficient σ of most models in Q16.16 units): the result is
+/// a_l·b_h + ⌊(a_l·b_l + 2¹⁵)/2¹⁶⌋ exactly, two products; |a_l·b_h| ≤
+/// (2¹⁶ − 1)·2¹⁵ and the second term is at most 2¹⁶, so the sum fits
+/// `i32` and needs no saturation (|a·b/2¹⁶| < |b|).
 #[inline(always)]
 #[cfg_attr(not(breakaway_armv6m), allow(dead_code))]
 fn mul_split_saturated(a: i32, b: i32) -> i32 {
     let (ah, al) = (a >> 16, a & 0xffff);
     let (bh, bl) = (b >> 16, b & 0xffff);
+    if ah == 0 {
+        let low = ((al as u32).wrapping_mul(bl as u32).wrapping_add(1 << 15) >> 16) as i32;
+        return al.wrapping_mul(bh).wrapping_add(low);
+    }
     let (m, overflow) = ah.wrapping_mul(bl).overflowing_add(al.wrapping_mul(bh));
     // When the sum overflowed, its true value is m ± 2³², of the sign
     // opposite to m's.
@@ -412,10 +441,10 @@ impl<const K: usize> Scalar for Q16<K> {
     #[inline(always)]
     fn mul_in_range(self, rhs: Self) -> Self {
         #[cfg(not(breakaway_armv6m))]
-        let rounded = mul_wide(self.to_bits(), rhs.to_bits());
+        let rounded = mul_wide(self.to_bits(), rhs.to_bits()) as i32;
         #[cfg(breakaway_armv6m)]
-        let rounded = mul_split(self.to_bits(), rhs.to_bits());
-        Self::from_bits(rounded as i32)
+        let rounded = mul_split_in_range(self.to_bits(), rhs.to_bits());
+        Self::from_bits(rounded)
     }
     /// Force in units of Fs, velocity in units of V, length in units of
     /// z_max/256.
@@ -553,9 +582,7 @@ impl CountScale {
         if self.pre < 32 {
             let scaled = counts.wrapping_shl(self.pre);
             if scaled >> self.pre == counts {
-                let product = exact_product(scaled, self.mantissa);
-                // |product| < 2⁶²: adding 2³¹ cannot overflow.
-                return Q16::from_bits((product.wrapping_add(1 << 31) >> 32) as i32);
+                return Q16::from_bits(mul_high_rounded(scaled, self.mantissa));
             }
         }
         self.apply_wide(counts)
@@ -585,6 +612,45 @@ fn exact_product(a: i32, b: i32) -> i64 {
     {
         mul_exact_split(a, b)
     }
+}
+
+/// (a·b + 2³¹) >> 32: the rounded high word of the exact product (|a·b|
+/// ≤ 2⁶², so the sum cannot overflow and the result is within ±2³⁰).
+#[inline(always)]
+fn mul_high_rounded(a: i32, b: i32) -> i32 {
+    #[cfg(not(breakaway_armv6m))]
+    {
+        (exact_product(a, b).wrapping_add(1 << 31) >> 32) as i32
+    }
+    #[cfg(breakaway_armv6m)]
+    {
+        mul_high_rounded_split(a, b)
+    }
+}
+
+/// [`mul_high_rounded`] from four 32-bit products in 32-bit arithmetic,
+/// for ARMv6-M. With a = a_h·2¹⁶ + a_l, b = b_h·2¹⁶ + b_l (a_l, b_l
+/// unsigned 16 bits), m₁ = a_h·b_l and m₂ = a_l·b_h (each within ±2³¹) and
+/// x = a_l·b_l: (a·b + 2³¹)/2³² = a_h·b_h + (m₁ + m₂ + (x + 2³¹)/2¹⁶)/2¹⁶,
+/// and ⌊(x + 2³¹)/2¹⁶⌋ = ⌊x/2¹⁶⌋ + 2¹⁵; the sum m₁ + m₂ may not fit, so
+/// its halves are taken apart: ⌊mᵢ/2¹⁶⌋ each, and the low halves with
+/// that term (below 2¹⁸) shifted once. The result fits `i32`, so the
+/// wrapping sums are exact.
+#[inline(always)]
+#[cfg_attr(not(breakaway_armv6m), allow(dead_code))]
+fn mul_high_rounded_split(a: i32, b: i32) -> i32 {
+    let (ah, al) = (a >> 16, a & 0xffff);
+    let (bh, bl) = (b >> 16, b & 0xffff);
+    let (m1, m2) = (ah.wrapping_mul(bl), al.wrapping_mul(bh));
+    let x = (al as u32).wrapping_mul(bl as u32);
+    let low = (m1 & 0xffff)
+        .wrapping_add(m2 & 0xffff)
+        .wrapping_add((x >> 16) as i32)
+        .wrapping_add(1 << 15);
+    ah.wrapping_mul(bh)
+        .wrapping_add(m1 >> 16)
+        .wrapping_add(m2 >> 16)
+        .wrapping_add(low >> 16)
 }
 
 /// round((hi·2³² + lo) / 2ˢ) for s in 1..=63, saturated to `i32`, with
@@ -632,6 +698,10 @@ impl<const K: usize> Position<Q16<K>> for i32 {
     fn travel_from(self, origin: Self, scale: CountScale) -> Q16<K> {
         scale.apply(self.wrapping_sub(origin))
     }
+    #[inline(always)]
+    fn not_behind(self, origin: Self, direction: i8) -> bool {
+        crate::position::counts_not_behind(self.wrapping_sub(origin), direction)
+    }
 }
 
 /// As for `i32`, on the low 32 bits (see the `f32` implementation).
@@ -650,6 +720,10 @@ impl<const K: usize> Position<Q16<K>> for i64 {
     #[inline(always)]
     fn travel_from(self, origin: Self, scale: CountScale) -> Q16<K> {
         scale.apply((self as i32).wrapping_sub(origin as i32))
+    }
+    #[inline(always)]
+    fn not_behind(self, origin: Self, direction: i8) -> bool {
+        crate::position::counts_not_behind((self as i32).wrapping_sub(origin as i32), direction)
     }
 }
 
@@ -991,6 +1065,97 @@ mod tests {
         for _ in 0..4_000_000 {
             let (a, b) = (next() >> (next() & 31), next() >> (next() & 31));
             assert_eq!(mul_split_saturated(a, b), want(a, b), "{a} × {b}");
+        }
+        // The fast path (0 ≤ a < 2¹⁶) against every kind of b.
+        for &b in &extremes {
+            for a in [0, 1, 32767, 32768, 65534, 65535] {
+                assert_eq!(mul_split_saturated(a, b), want(a, b), "{a} × {b}");
+            }
+        }
+        for _ in 0..4_000_000 {
+            let (a, b) = (next() & 0xffff, next() >> (next() & 31));
+            assert_eq!(mul_split_saturated(a, b), want(a, b), "{a} × {b}");
+        }
+    }
+
+    /// The ARMv6-M product in wrapping 32-bit arithmetic equals the
+    /// 64-bit one wherever that fits `i32`, and its low word (the ARMv7-M
+    /// path's value) everywhere, on random and extreme operands.
+    #[test]
+    fn split_in_range_multiply_matches_wide_multiply() {
+        let mut bits = xorshift(0x1405_7b7e_f767_814f);
+        let mut next = || bits() as i32;
+        let extremes = [
+            i32::MIN,
+            i32::MIN + 1,
+            -65537,
+            -65536,
+            -65535,
+            -32768,
+            -1,
+            0,
+            1,
+            32767,
+            32768,
+            65535,
+            65536,
+            65537,
+            i32::MAX,
+        ];
+        let mut checked = 0u32;
+        let mut check = |a: i32, b: i32| {
+            let wide = mul_wide(a, b);
+            assert_eq!(mul_split_in_range(a, b), wide as i32, "{a} × {b}");
+            assert_eq!(mul_split(a, b), wide, "{a} × {b}");
+            if let Ok(want) = i32::try_from(wide) {
+                assert_eq!(mul_split_in_range(a, b), want, "{a} × {b}");
+                checked += 1;
+            }
+        };
+        for &a in &extremes {
+            for &b in &extremes {
+                check(a, b);
+            }
+        }
+        for _ in 0..4_000_000 {
+            check(next() >> (next() & 31), next() >> (next() & 31));
+        }
+        assert!(checked > 2_000_000, "{checked}");
+    }
+
+    /// The ARMv6-M rounded high word of a product equals the 64-bit one.
+    #[test]
+    fn split_high_word_matches_wide_multiply() {
+        let mut bits = xorshift(0xd1b5_4a32_d192_ed03);
+        let mut next = || bits() as i32;
+        let extremes = [
+            i32::MIN,
+            i32::MIN + 1,
+            -(1 << 30),
+            -65537,
+            -65536,
+            -65535,
+            -32768,
+            -1,
+            0,
+            1,
+            32767,
+            32768,
+            65535,
+            65536,
+            65537,
+            1 << 30,
+            i32::MAX,
+        ];
+        let want = |a: i32, b: i32| ((i64::from(a) * i64::from(b) + (1 << 31)) >> 32) as i32;
+        for &a in &extremes {
+            for &b in &extremes {
+                assert_eq!(mul_high_rounded_split(a, b), want(a, b), "{a} × {b}");
+            }
+        }
+        for _ in 0..4_000_000 {
+            let (a, b) = (next() >> (next() & 31), next() >> (next() & 31));
+            assert_eq!(mul_high_rounded_split(a, b), want(a, b), "{a} × {b}");
         }
     }
 

@@ -36,6 +36,26 @@ pub trait Position<T: Scalar>: Copy {
     /// The travel `self − origin` in model length units, given the scale of
     /// the sample type.
     fn travel_from(self, origin: Self, scale: Self::Scale) -> T;
+    /// `true` when d·[`travel_from`](Self::travel_from)`(origin, scale)`
+    /// is certainly not negative for the direction d = `direction` (±1),
+    /// whatever the scale; `false` when it may be (the travel is then
+    /// computed). The state machine's test for a reversal; the default
+    /// never rules one out.
+    #[doc(hidden)]
+    #[inline(always)]
+    fn not_behind(self, origin: Self, direction: i8) -> bool {
+        let _ = (origin, direction);
+        false
+    }
+}
+
+/// d·(a − b) ≥ 0 for counts whose wrapping difference a − b is `difference`
+/// (the travel is the difference times a positive scale, rounded:
+/// monotone, 0 at 0). The product wraps only for a difference of −2³¹
+/// and d = −1, to −2³¹: then `false`, which is always allowed.
+#[inline(always)]
+pub(crate) fn counts_not_behind(difference: i32, direction: i8) -> bool {
+    difference.wrapping_mul(i32::from(direction)) >= 0
 }
 
 /// A float scale [m per unit] is valid when finite and positive.
@@ -46,12 +66,14 @@ fn float_scale(units: f32) -> Option<f32> {
 
 /// `Position<f32>` for a sample type with an `f32` scale [m per unit]:
 /// `valid` tells a usable sample, `travel` the travel in metres from
-/// `origin` to the sample given the scale `m`.
+/// `origin` to the sample given the scale `m`, and the optional
+/// `not_behind` overrides [`Position::not_behind`] (count types).
 macro_rules! position_f32 {
     (
         $(#[$doc:meta])* $ty:ty,
         valid: |$v:ident| $valid:expr,
-        travel: |$x:ident, $origin:ident, $m:ident| $travel:expr $(,)?
+        travel: |$x:ident, $origin:ident, $m:ident| $travel:expr
+        $(, not_behind: |$nx:ident, $norigin:ident, $nd:ident| $not_behind:expr)? $(,)?
     ) => {
         $(#[$doc])*
         impl Position<f32> for $ty {
@@ -72,6 +94,13 @@ macro_rules! position_f32 {
                 let $x = self;
                 $travel
             }
+            $(
+                #[inline(always)]
+                fn not_behind(self, $norigin: Self, $nd: i8) -> bool {
+                    let $nx = self;
+                    $not_behind
+                }
+            )?
         }
     };
 }
@@ -85,6 +114,7 @@ position_f32!(
     i32,
     valid: |_x| true,
     travel: |x, origin, m| x.wrapping_sub(origin) as f32 * m,
+    not_behind: |x, origin, d| counts_not_behind(x.wrapping_sub(origin), d),
 );
 position_f32!(
     /// As for `i32`, the difference is taken on the low 32 bits (wrapping), so
@@ -97,4 +127,5 @@ position_f32!(
     i64,
     valid: |_x| true,
     travel: |x, origin, m| (x as i32).wrapping_sub(origin as i32) as f32 * m,
+    not_behind: |x, origin, d| counts_not_behind((x as i32).wrapping_sub(origin as i32), d),
 );

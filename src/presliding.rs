@@ -221,6 +221,18 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
     }
 
     /// The sample of [`update`](Self::update), with S ≡ Fc when `coulomb`.
+    ///
+    /// The common sample — no memory of turning points (`N = 0`),
+    /// |σ·v| < [`Scalar::MAX`]/2, S and g without a call — takes a
+    /// straight path that decides everything before it stores anything;
+    /// every other sample (a NaN or infinite input, σ·v near overflow, minor loops, S below a table that does not reach
+    /// u^δ = 2⁻²², w below 2⁻²⁴ in `f32`) goes, with the state untouched,
+    /// to the general one, [`update_general`](Self::update_general). Both
+    /// compute the same numbers: the straight path only leaves out tests
+    /// whose outcome its conditions fix (σ·v finite, so no separate
+    /// velocity check; |H| ≤ Fs ≤ MAX/4 and |σ·v| < MAX/2, so H + σ·v
+    /// cannot overflow). The general path is a call made where nothing else
+    /// is live, so that the straight path needs no register saves.
     #[inline(always)]
     fn update_at(
         &mut self,
@@ -229,6 +241,105 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
         velocity: T,
         coulomb: bool,
     ) -> Result<T, SampleError> {
+        let viscous = model.sigma * velocity;
+        if N != 0 || !position.is_valid() {
+            self.update_general(model, position, velocity, coulomb)?;
+            return Ok(self.force);
+        }
+        // S first (it does not depend on the state), with the test that σ·v
+        // is moderate; a NaN or infinite velocity makes σ·v NaN or ±∞
+        // (σ = 0 included): not moderate.
+        let level = if coulomb {
+            if viscous.is_moderate() {
+                Some(model.fc)
+            } else {
+                None
+            }
+        } else {
+            model.curves.stribeck_fast(velocity, viscous)
+        };
+        let Some(level) = level else {
+            self.update_general(model, position, velocity, coulomb)?;
+            return Ok(self.force);
+        };
+        if self.direction == 0 {
+            // The idle start, as in `update_general` (σ·v is finite).
+            let moved = position.travel_from(self.base.position, self.scale);
+            if moved > T::ZERO {
+                self.direction = 1;
+            } else if moved < T::ZERO {
+                self.direction = -1;
+                self.sign = -T::ONE;
+            } else {
+                self.force = viscous;
+                return Ok(self.force);
+            }
+        }
+        // d·(x − x_ext) < 0: a reversal, pending inside the deadband; the
+        // travel itself only when the position type cannot rule it out.
+        let (reversed, ahead) = if position.not_behind(self.extremum, self.direction) {
+            (false, T::ZERO)
+        } else {
+            let ahead = self.along(position.travel_from(self.extremum, self.scale));
+            (ahead < T::ZERO, ahead)
+        };
+        if reversed && -ahead <= model.epsilon {
+            // A reversal is pending inside the deadband: H is held.
+            self.force = self.dry + viscous;
+            return Ok(self.force);
+        }
+        if reversed {
+            self.reverse();
+        }
+        let stribeck = self.along(level);
+        let dry = if self.base_saturated {
+            stribeck
+        } else {
+            let start = self.base;
+            let travel = self.along(position.travel_from(start.position, self.scale));
+            // In range: see `Scalar::mul_in_range`.
+            let w = travel.mul_in_range(model.inv_z_max);
+            match model.curves.shape_fast(w) {
+                // |S − H_r| ≤ 2·Fs, g in [0, 1]: in range.
+                Some(Some(g)) => start.dry + (stribeck - start.dry).mul_in_range(g),
+                // w ≥ 1: gross sliding (N = 0: no memory to clear).
+                Some(None) => {
+                    self.base_saturated = true;
+                    self.base_is_target = false;
+                    stribeck
+                }
+                None => return Ok(self.finish(model, position, stribeck, viscous)),
+            }
+        };
+        self.extremum = position;
+        self.dry = dry;
+        self.force = dry + viscous;
+        Ok(self.force)
+    }
+
+    /// The end of [`update_at`](Self::update_at) where g is not evaluated
+    /// without a call: H by [`follow`](Self::follow)'s branch, the stores;
+    /// returns F.
+    #[inline(never)]
+    fn finish(&mut self, model: &Model<T>, position: P, stribeck: T, viscous: T) -> T {
+        self.extremum = position;
+        self.dry = self.towards_steady_state(model, self.base, position, stribeck);
+        self.force = self.dry + viscous;
+        self.force
+    }
+
+    /// [`update_at`](Self::update_at) for every sample: the reference
+    /// implementation of the state machine. F is left in `self.force`: a
+    /// `Result<(), _>` comes back from the call in a register, a
+    /// `Result<T, _>` through memory.
+    #[inline(never)]
+    fn update_general(
+        &mut self,
+        model: &Model<T>,
+        position: P,
+        velocity: T,
+        coulomb: bool,
+    ) -> Result<(), SampleError> {
         if !velocity.is_finite() {
             return Err(SampleError::Velocity);
         }
@@ -245,7 +356,7 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
                 self.sign = -T::ONE;
             } else {
                 self.force = viscous.saturate();
-                return Ok(self.force);
+                return Ok(());
             }
         }
         let ahead = self.along(position.travel_from(self.extremum, self.scale));
@@ -253,7 +364,7 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
             if -ahead <= model.epsilon {
                 // A reversal is pending inside the deadband: H is held.
                 self.force = (self.dry + viscous).saturate();
-                return Ok(self.force);
+                return Ok(());
             }
             self.reverse();
         }
@@ -261,7 +372,7 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
         self.dry = self.follow(model, position, velocity, coulomb);
         // |H| ≤ Fs ≤ f32::MAX/4, so only σ·v can overflow (to ±∞, never NaN).
         self.force = (self.dry + viscous).saturate();
-        Ok(self.force)
+        Ok(())
     }
 
     /// Friction force F [N] returned by the last accepted sample.
@@ -424,5 +535,157 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
                 self.base_is_target = false;
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::params::Params;
+    use crate::Q16;
+
+    /// xorshift64*: a deterministic stream for the randomized tests.
+    struct Rng(u64);
+
+    impl Rng {
+        fn next(&mut self) -> u64 {
+            self.0 ^= self.0 >> 12;
+            self.0 ^= self.0 << 25;
+            self.0 ^= self.0 >> 27;
+            self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
+        }
+        /// Uniform in [0, 1).
+        fn unit(&mut self) -> f32 {
+            (self.next() >> 40) as f32 / (1u64 << 24) as f32
+        }
+        /// 10^(a..b), log-uniform.
+        fn decades(&mut self, a: f32, b: f32) -> f32 {
+            libm::powf(10.0, a + (b - a) * self.unit())
+        }
+        fn below(&mut self, n: u64) -> u64 {
+            self.next() % n
+        }
+    }
+
+    /// Parameters over wide ranges: δ from 0.1 to 8 (tables that reach
+    /// u^δ = 2⁻²² and tables that do not), Fs/Fc up to 10, σ up to 1e38
+    /// (σ·v near overflow), ε from 0 to 0.5·z_max.
+    fn params(rng: &mut Rng) -> Params {
+        let fc = rng.decades(-3.0, 3.0);
+        let z_max = rng.decades(-7.0, -3.0);
+        Params {
+            fc,
+            fs: fc * (1.0 + 9.0 * rng.unit()),
+            v_stribeck: rng.decades(-5.0, -1.0),
+            delta: rng.decades(-1.0, 0.9),
+            sigma: match rng.below(4) {
+                0 => 0.0,
+                1 => rng.decades(30.0, 38.0),
+                _ => rng.decades(-2.0, 4.0),
+            },
+            z_max,
+            epsilon: if rng.below(2) == 0 {
+                0.0
+            } else {
+                0.5 * z_max * rng.unit()
+            },
+        }
+    }
+
+    /// A walk of count steps from 1 to 3·z_max (in counts), reversing at
+    /// random, with a count difference for the velocity; now and then a
+    /// standstill, a velocity far outside the table, a tiny one, a NaN or
+    /// an infinity.
+    fn samples(rng: &mut Rng, counts_per_z: f32, v_stribeck: f32) -> [(i64, f32); 600] {
+        let mut out = [(0i64, 0.0f32); 600];
+        let (mut x, mut direction) = (0i64, 1i64);
+        for sample in out.iter_mut() {
+            if rng.below(6) == 0 {
+                direction = -direction;
+            }
+            let step = match rng.below(8) {
+                0 => 0,
+                1 => (3.0 * counts_per_z * rng.unit()) as i64,
+                _ => (0.3 * counts_per_z * rng.unit()) as i64,
+            };
+            x = x.wrapping_add(direction * step);
+            let v = match rng.below(40) {
+                0 => f32::NAN,
+                1 => f32::INFINITY,
+                2 => 1e6 * v_stribeck,
+                3 => 1e-30,
+                4 => 0.0,
+                _ => (direction * step) as f32 * v_stribeck * 0.1 * (rng.unit() - 0.2),
+            };
+            *sample = (x, v);
+        }
+        out
+    }
+
+    /// The straight path of `update` and `update_general` agree bit for
+    /// bit, result and state, sample by sample.
+    fn same<P, T>(
+        model: &Model<T>,
+        axis: Presliding<P, T, 0>,
+        samples: impl Iterator<Item = (P, T)>,
+        coulomb: bool,
+    ) where
+        P: Position<T> + core::fmt::Debug + PartialEq,
+        T: Scalar + core::fmt::Debug,
+    {
+        let (mut fast, mut general) = (axis.clone(), axis);
+        for (n, (x, v)) in samples.enumerate() {
+            let got = fast.update_at(model, x, v, coulomb);
+            let want = general
+                .update_general(model, x, v, coulomb)
+                .map(|()| general.force);
+            match (got, want) {
+                (Ok(a), Ok(b)) => assert_eq!(
+                    a.to_f32().to_bits(),
+                    b.to_f32().to_bits(),
+                    "sample {n}: {a:?} against {b:?}"
+                ),
+                (a, b) => assert_eq!(a.err(), b.err(), "sample {n}"),
+            }
+            assert_eq!(fast, general, "sample {n}");
+            assert_eq!(fast.dry.to_f32().to_bits(), general.dry.to_f32().to_bits());
+        }
+    }
+
+    #[test]
+    fn straight_path_equals_the_general_one() {
+        let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+        let mut models = 0;
+        for case in 0..400 {
+            let p = params(&mut rng);
+            let count = p.z_max / (10.0 + 2000.0 * rng.unit());
+            let trajectory = samples(&mut rng, p.z_max / count, p.v_stribeck);
+            let coulomb = case % 5 == 0;
+            if let Ok(model) = Model::<f32>::new(p) {
+                models += 1;
+                let axis = Presliding::<i64>::new(0, count).unwrap();
+                same(&model, axis, trajectory.iter().copied(), coulomb);
+                let axis = Presliding::<i32>::new(i32::MAX - 5000, count).unwrap();
+                let shifted = trajectory
+                    .iter()
+                    .map(|&(x, v)| ((x as i32).wrapping_add(i32::MAX - 5000), v));
+                same(&model, axis, shifted, coulomb);
+                let axis = Presliding::at(0.0);
+                let metres = trajectory.iter().map(|&(x, v)| (x as f32 * count, v));
+                same(&model, axis, metres, coulomb);
+            }
+            let mut fixed = Model::<Q16>::UNIT_COULOMB;
+            if fixed.set_params(p).is_ok() {
+                if let Some(scale) = fixed.position_scale::<i32>(count) {
+                    let axis = Presliding::<i32, Q16>::new(0, scale).unwrap();
+                    let counts = trajectory.iter().map(|&(x, v)| {
+                        let v = fixed.velocity(v).unwrap_or(Q16::MAX);
+                        (x as i32, v)
+                    });
+                    same(&fixed, axis, counts, coulomb);
+                }
+            }
+        }
+        assert!(models > 300, "{models} models");
     }
 }

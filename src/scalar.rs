@@ -73,6 +73,15 @@ pub trait Scalar:
         negated_if(self, sign < Self::ZERO)
     }
 
+    /// `false` when |`self`| may reach half the largest finite value, or
+    /// is NaN: a sum with a number of magnitude up to [`MAX`](Self::MAX)/4
+    /// cannot overflow when `true`. A fixed-point type, whose operations
+    /// saturate, may always return `true`.
+    #[inline(always)]
+    fn is_moderate(self) -> bool {
+        self.is_finite()
+    }
+
     /// `self`·`rhs` where the caller knows the exact product to be far
     /// inside the range (|self·rhs| ≤ 256 at most): a fixed-point type
     /// skips its saturation check. The model uses it where the bound holds
@@ -147,6 +156,40 @@ pub trait Curves<T>: Sized + Clone {
     /// Presliding shape g(w) = w·(1 − ln w) for `w` in [0, 1]; 0 for `w ≤ 0`,
     /// 1 for `w ≥ 1` ([presliding](crate::model_overview#presliding)).
     fn shape(&self, w: T) -> T;
+    /// S(v) as [`stribeck`](Self::stribeck) where it is evaluated without
+    /// a call and `viscous` (σ·v) is [moderate](Scalar::is_moderate),
+    /// `None` elsewhere: the state machine's straight path, which then
+    /// leaves the sample to its general path. A table may skip the test of
+    /// σ·v where |v| inside it bounds σ·v by construction.
+    #[doc(hidden)]
+    #[inline(always)]
+    fn stribeck_fast(&self, v: T, viscous: T) -> Option<T>
+    where
+        T: Scalar,
+    {
+        if viscous.is_moderate() {
+            Some(self.stribeck(v))
+        } else {
+            None
+        }
+    }
+    /// The state machine's test for gross sliding and g in one (a table
+    /// can test the range of `w` once for both): `Some(Some(g(w)))` for
+    /// `w` < 1 (as [`shape`](Self::shape)), `Some(None)` for `w` ≥ 1 and
+    /// NaN, `None` where g is not evaluated without a call (the straight
+    /// path then leaves the sample to the general one).
+    #[doc(hidden)]
+    #[inline(always)]
+    fn shape_fast(&self, w: T) -> Option<Option<T>>
+    where
+        T: Scalar,
+    {
+        if w < T::ONE {
+            Some(Some(self.shape(w)))
+        } else {
+            Some(None)
+        }
+    }
     /// The smallest positive root v of v·S(v) = `c` for `c` ≥ 0 (the
     /// break-away velocity of [`Variant::Consistent`](crate::Variant)), and
     /// S(v); `None` when the solve does not converge.
@@ -186,6 +229,11 @@ impl Scalar for f32 {
     #[inline(always)]
     fn signed(self, sign: Self) -> Self {
         self * sign
+    }
+    /// One test of the bits: |x| < 2¹²⁷ (NaN fails).
+    #[inline(always)]
+    fn is_moderate(self) -> bool {
+        (self.to_bits() & 0x7fff_ffff) < 0x7f00_0000
     }
     #[inline(always)]
     fn saturate(self) -> Self {
