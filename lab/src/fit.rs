@@ -1457,10 +1457,11 @@ mod tests {
         }
     }
 
-    /// `filter_all` is `filter_at` at every valid sample, to the last bit.
-    #[test]
-    fn filter_all_is_filter_at() {
-        let rec = record(500, 1e-3, |t| 1e-3 * (3.0 * t).sin());
+    /// A sinusoidal record of `n` samples, prepared with a ±20 force
+    /// kernel, and a series to filter that is no polynomial (non-integer
+    /// values, so that a changed order of the sums shows in the bits).
+    fn filter_fixture(n: usize) -> (Prepared, Vec<f64>) {
+        let rec = record(n, 1e-3, |t| 1e-3 * (3.0 * t).sin());
         let p = Prepared::with_window(
             &rec,
             Window {
@@ -1468,9 +1469,16 @@ mod tests {
                 force: 20,
             },
         );
-        let s: Vec<f64> = (0..rec.len())
+        let s = (0..n)
             .map(|i| ((i * 7919) % 101) as f64 * 0.371 - 18.3)
             .collect();
+        (p, s)
+    }
+
+    /// `filter_all` is `filter_at` at every valid sample, to the last bit.
+    #[test]
+    fn filter_all_is_filter_at() {
+        let (p, s) = filter_fixture(500);
         let all = p.filter_all(&s);
         for (i, got) in all.iter().enumerate() {
             let want = if p.valid().contains(&i) {
@@ -1482,19 +1490,12 @@ mod tests {
         }
     }
 
+    /// `filter_on` and `residual_on` are `filter_all` and `residual` on
+    /// their side of the split, to the last bit, and 0 elsewhere.
     #[test]
     fn one_side_is_the_full_filter_there() {
-        let rec = record(2000, 1e-3, |t| 1e-3 * (3.0 * t).sin());
-        let p = Prepared::with_window(
-            &rec,
-            Window {
-                velocity: 4,
-                force: 20,
-            },
-        );
-        let s: Vec<f64> = (0..rec.len())
-            .map(|i| ((i * 7919) % 101) as f64 * 0.371 - 18.3)
-            .collect();
+        let (p, s) = filter_fixture(2000);
+        let n = p.len();
         let all = p.filter_all(&s);
         let m = crate::diagnose::fig5_model();
         let r_all = p.residual(&m);
@@ -1502,8 +1503,8 @@ mod tests {
             let one = p.filter_on(&s, side);
             let r_one = p.residual_on(&m, side);
             let on_side = |i: usize| p.valid().contains(&i) && p.held_out[i] == side;
-            assert!((0..rec.len()).any(on_side) && !(0..rec.len()).all(on_side));
-            for i in 0..rec.len() {
+            assert!((0..n).any(on_side) && !(0..n).all(on_side));
+            for i in 0..n {
                 let (want, want_r) = if on_side(i) {
                     (all[i], r_all[i])
                 } else {
