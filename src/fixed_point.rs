@@ -1001,24 +1001,38 @@ mod tests {
         }
     }
 
+    /// Factors at the edges of the Q16.16 products' cases (signs, the
+    /// 16-bit halves, 2³⁰ and the ends of `i32`) for the products' tests.
+    const EXTREME_FACTORS: [i32; 20] = [
+        i32::MIN,
+        i32::MIN + 1,
+        -(1 << 30),
+        -(1 << 24),
+        -65537,
+        -65536,
+        -65535,
+        -32768,
+        -1,
+        0,
+        1,
+        32767,
+        32768,
+        65535,
+        65536,
+        65537,
+        1 << 24,
+        1 << 30,
+        i32::MAX - 1,
+        i32::MAX,
+    ];
+
     /// The ARMv6-M multiply equals the 64-bit one on random and extreme
     /// operands (it only runs on the M0; here it is checked on the host).
     #[test]
     fn split_multiply_matches_wide_multiply() {
         let mut bits = xorshift(0x2545_f491_4f6c_dd1d);
         let mut next = || bits() as i32;
-        let extremes = [
-            i32::MIN,
-            i32::MIN + 1,
-            -65536,
-            -65535,
-            -1,
-            0,
-            1,
-            65535,
-            65536,
-            i32::MAX,
-        ];
+        let extremes = EXTREME_FACTORS;
         for &a in &extremes {
             for &b in &extremes {
                 assert_eq!(mul_split(a, b), mul_wide(a, b), "{a} × {b}");
@@ -1036,26 +1050,7 @@ mod tests {
     fn split_saturated_multiply_matches_wide_multiply() {
         let mut bits = xorshift(0x5851_f42d_4c95_7f2d);
         let mut next = || bits() as i32;
-        let extremes = [
-            i32::MIN,
-            i32::MIN + 1,
-            -(1 << 24),
-            -65537,
-            -65536,
-            -65535,
-            -32768,
-            -1,
-            0,
-            1,
-            32767,
-            32768,
-            65535,
-            65536,
-            65537,
-            1 << 24,
-            i32::MAX - 1,
-            i32::MAX,
-        ];
+        let extremes = EXTREME_FACTORS;
         let want = |a: i32, b: i32| saturate_i32(mul_wide(a, b));
         for &a in &extremes {
             for &b in &extremes {
@@ -1085,23 +1080,7 @@ mod tests {
     fn split_in_range_multiply_matches_wide_multiply() {
         let mut bits = xorshift(0x1405_7b7e_f767_814f);
         let mut next = || bits() as i32;
-        let extremes = [
-            i32::MIN,
-            i32::MIN + 1,
-            -65537,
-            -65536,
-            -65535,
-            -32768,
-            -1,
-            0,
-            1,
-            32767,
-            32768,
-            65535,
-            65536,
-            65537,
-            i32::MAX,
-        ];
+        let extremes = EXTREME_FACTORS;
         let mut checked = 0u32;
         let mut check = |a: i32, b: i32| {
             let wide = mul_wide(a, b);
@@ -1128,25 +1107,7 @@ mod tests {
     fn split_high_word_matches_wide_multiply() {
         let mut bits = xorshift(0xd1b5_4a32_d192_ed03);
         let mut next = || bits() as i32;
-        let extremes = [
-            i32::MIN,
-            i32::MIN + 1,
-            -(1 << 30),
-            -65537,
-            -65536,
-            -65535,
-            -32768,
-            -1,
-            0,
-            1,
-            32767,
-            32768,
-            65535,
-            65536,
-            65537,
-            1 << 30,
-            i32::MAX,
-        ];
+        let extremes = EXTREME_FACTORS;
         let want = |a: i32, b: i32| ((i64::from(a) * i64::from(b) + (1 << 31)) >> 32) as i32;
         for &a in &extremes {
             for &b in &extremes {
@@ -1164,17 +1125,7 @@ mod tests {
     fn exact_split_multiply_matches_wide_multiply() {
         let mut bits = xorshift(0x9e37_79b9_7f4a_7c15);
         let mut next = || bits() as i32;
-        let extremes = [
-            i32::MIN,
-            i32::MIN + 1,
-            -65536,
-            -1,
-            0,
-            1,
-            65535,
-            65536,
-            i32::MAX,
-        ];
+        let extremes = EXTREME_FACTORS;
         for &a in &extremes {
             for &b in &extremes {
                 assert_eq!(

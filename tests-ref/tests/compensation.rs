@@ -981,6 +981,35 @@ fn stiction_drift_run(
     )
 }
 
+/// The estimated levels of a stiction-adaptation run against the plant's
+/// Fc = `fc` and Fs = `fs` [N]: θ_c = Fc/Fc_model within 1 %, the stiction
+/// level θ_c·Fc + θ_s·(Fs − Fc) within 3 % of Fs, and the Q16 scales within
+/// 0.02 of the f32 ones all along (`run`: the f32 scales, the Q16 scales,
+/// the largest Q16 − f32 difference).
+fn check_levels(fc: f64, fs: f64, run: ([f32; 2], [f32; 2], f32)) {
+    let ([c, s], [cq, sq], worst) = run;
+    let want_c = (fc / FIG5.fc as f64) as f32;
+    let want_s = ((fs - fc) / (FIG5.fs - FIG5.fc) as f64) as f32;
+    let stiction = c * FIG5.fc + s * (FIG5.fs - FIG5.fc);
+    eprintln!(
+        "({fc}, {fs}): θ_c {c} ({:+.3} %), stiction level {stiction} N ({:+.3} %), Q16 vs f32 {worst}",
+        (c / want_c - 1.0) * 100.0,
+        (stiction / fs as f32 - 1.0) * 100.0
+    );
+    assert!(
+        (c - want_c).abs() < 0.01 * want_c,
+        "({fc}, {fs}): θ_c {c} vs {want_c}"
+    );
+    assert!(
+        (stiction - fs as f32).abs() < 0.03 * fs as f32,
+        "({fc}, {fs}): Fs {stiction} N vs {fs} N (θ_s {s} vs {want_s})"
+    );
+    assert!(
+        worst < 0.02,
+        "({fc}, {fs}): Q16 vs f32 {worst} ({cq}, {sq})"
+    );
+}
+
 #[test]
 fn stiction_adaptation_finds_the_levels_of_the_reference_plant() {
     // The plant's Fc is 20 % above the compensator's and its stiction excess
@@ -991,27 +1020,7 @@ fn stiction_adaptation_finds_the_levels_of_the_reference_plant() {
     // within 0.5 % (1.593 N for 1.6 N; 1.2 % with the earlier joint fit of
     // both errors), Q16 within 0.0045 of f32 on θ_c and θ_s all along.
     for (fc, fs) in [(1.2, 1.6), (1.0, 1.5), (0.9, 1.6)] {
-        let ([c, s], [cq, sq], worst) = stiction_run(fc, fs, 12.0);
-        let want_c = (fc / FIG5.fc as f64) as f32;
-        let want_s = ((fs - fc) / (FIG5.fs - FIG5.fc) as f64) as f32;
-        let stiction = c * FIG5.fc + s * (FIG5.fs - FIG5.fc);
-        eprintln!(
-            "({fc}, {fs}): θ_c {c} ({:+.3} %), stiction level {stiction} N ({:+.3} %), Q16 vs f32 {worst}",
-            (c / want_c - 1.0) * 100.0,
-            (stiction / fs as f32 - 1.0) * 100.0
-        );
-        assert!(
-            (c - want_c).abs() < 0.01 * want_c,
-            "({fc}, {fs}): θ_c {c} vs {want_c}"
-        );
-        assert!(
-            (stiction - fs as f32).abs() < 0.03 * fs as f32,
-            "({fc}, {fs}): Fs {stiction} N vs {fs} N (θ_s {s} vs {want_s})"
-        );
-        assert!(
-            worst < 0.02,
-            "({fc}, {fs}): Q16 vs f32 {worst} ({cq}, {sq})"
-        );
+        check_levels(fc, fs, stiction_run(fc, fs, 12.0));
     }
 }
 
@@ -1025,26 +1034,7 @@ fn stiction_adaptation_follows_a_step_drift_of_the_levels() {
     // stiction level within 0.2 % (Fc, Fs: 1.796 N for 1.8 N) and 0.6 %
     // (Fc: 1.492 N for 1.5 N); Q16 within 0.0045 of f32 all along.
     for (fc, fs) in [(1.2, 1.8), (1.2, 1.5)] {
-        let ([c, s], [cq, sq], worst) = stiction_drift_run(1.0, 1.5, Some((fc, fs)), 12.0);
-        let want_c = (fc / FIG5.fc as f64) as f32;
-        let stiction = c * FIG5.fc + s * (FIG5.fs - FIG5.fc);
-        eprintln!(
-            "({fc}, {fs}): θ_c {c} ({:+.3} %), stiction level {stiction} N ({:+.3} %), Q16 vs f32 {worst}",
-            (c / want_c - 1.0) * 100.0,
-            (stiction / fs as f32 - 1.0) * 100.0
-        );
-        assert!(
-            (c - want_c).abs() < 0.01 * want_c,
-            "({fc}, {fs}): θ_c {c} vs {want_c}"
-        );
-        assert!(
-            (stiction - fs as f32).abs() < 0.03 * fs as f32,
-            "({fc}, {fs}): Fs {stiction} N vs {fs} N (θ_s {s})"
-        );
-        assert!(
-            worst < 0.02,
-            "({fc}, {fs}): Q16 vs f32 {worst} ({cq}, {sq})"
-        );
+        check_levels(fc, fs, stiction_drift_run(1.0, 1.5, Some((fc, fs)), 12.0));
     }
 }
 
