@@ -70,6 +70,10 @@ struct ProfileArgs {
     /// Print JSON instead of the table
     #[arg(long)]
     json: bool,
+    /// After the table: per row at δ = 1, the calls per instruction count
+    /// and the executed instructions of one call of each count
+    #[arg(long)]
+    listings: bool,
 }
 
 impl ProfileArgs {
@@ -85,6 +89,7 @@ impl ProfileArgs {
             cpu_hz: self.cpu_hz,
             json: self.json,
             rows: self.rows,
+            listings: self.listings,
         }
     }
 }
@@ -372,6 +377,7 @@ mod tests {
             "test",
             "qemu closed_loop long_run",
             "profile --target thumbv6m-none-eabi --rows update_f32,stribeck_f32 --json",
+            "profile --target thumbv7em-none-eabihf --rows update_f32 --listings",
             "fuzz --seconds 10 --target presliding",
             "sweep --seeds 700000..700160 --kind mixed --out /tmp/x --json /tmp/x.json",
         ] {

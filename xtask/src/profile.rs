@@ -24,6 +24,12 @@
 //! traced run is then short: on the M0 one row took one minute, build
 //! included, against three and a half for every row).
 //!
+//! `--listings` prints, after the table, for every row at δ = 1 and every
+//! distinct instruction count of its calls, how many calls took that count
+//! and the executed instructions of the first of them (address, function,
+//! disassembly as QEMU logged it): one listing per path through the code.
+//! The counts times the calls sum to the row's total.
+//!
 //! The example runs twice per target. A plain run (no log, well under a
 //! second) gives what it prints: the stack depths of its stack pass. The
 //! traced run writes one log line per executed instruction, which is what
@@ -126,6 +132,8 @@ pub struct Options {
     /// Only these rows (names of [`ROWS`]; all when empty): the example is
     /// built with the others left out, so that the traced run is short.
     pub rows: Vec<String>,
+    /// Print the executed instructions of one call per distinct count.
+    pub listings: bool,
 }
 
 impl Default for Options {
@@ -136,6 +144,7 @@ impl Default for Options {
             cpu_hz: 168_000_000.0,
             json: false,
             rows: Vec::new(),
+            listings: false,
         }
     }
 }
@@ -160,8 +169,11 @@ pub struct Row {
 /// Runs the profile and prints it.
 pub fn run(options: &Options) -> Result<(), String> {
     let mut rows = Vec::new();
+    let mut listings_text = String::new();
     for &target in &options.targets {
-        rows.extend(measure(target, &options.rows)?);
+        let (measured, listings) = measure(target, &options.rows, options.listings)?;
+        rows.extend(measured);
+        listings_text.push_str(&listings);
     }
     if options.json {
         let items: Vec<serde_json::Value> = rows
@@ -184,6 +196,12 @@ pub fn run(options: &Options) -> Result<(), String> {
         print_table(&rows, options);
         print_model_sizes();
     }
+    // Not in the JSON: on the error stream then.
+    if options.json {
+        eprint!("{listings_text}");
+    } else {
+        print!("{listings_text}");
+    }
     Ok(())
 }
 
@@ -193,7 +211,7 @@ pub fn run(options: &Options) -> Result<(), String> {
 pub fn check_targets() -> Result<(), String> {
     let mut rows = Vec::new();
     for target in qemu::TARGETS {
-        let measured = measure(target, &[])?;
+        let (measured, _) = measure(target, &[], false)?;
         for row in &measured {
             if row.calls == 0 || row.instructions < 5.0 || row.max_stack_bytes < 4 {
                 return Err(format!("profile: implausible row {row:?}"));
@@ -301,7 +319,13 @@ fn singlestep_args() -> Vec<&'static str> {
 ///
 /// `only` restricts the profile to some rows (all when empty): the example
 /// is built with [`qemu::PROFILE_ROWS_VARIABLE`] naming them and runs only their passes.
-pub fn measure(target: Target, only: &[String]) -> Result<Vec<Row>, String> {
+/// With `listings`, the text of [`Trace::listings`] comes back too (empty
+/// without).
+pub fn measure(
+    target: Target,
+    only: &[String],
+    listings: bool,
+) -> Result<(Vec<Row>, String), String> {
     let filter = only.join(",");
     // Unset for every row: the same build as `cargo xtask qemu`'s.
     let value = (!only.is_empty()).then_some(filter.as_str());
@@ -328,12 +352,23 @@ pub fn measure(target: Target, only: &[String]) -> Result<Vec<Row>, String> {
     let mut args = singlestep_args();
     args.extend(["-d", "in_asm,exec,nochain", "-D", &log_arg]);
     let mut child = qemu::spawn(&elf, target, &args, Stdio::null())?;
-    let rows = follow_trace(&log, &mut child, target, only, Duration::from_secs(900));
+    let traced = follow_trace(
+        &log,
+        &mut child,
+        Trace::new(target, only, listings),
+        Duration::from_secs(900),
+    );
     // Done with QEMU (running or not): it would go on logging the stack pass.
     let _ = child.kill();
     let _ = child.wait();
     let _ = std::fs::remove_file(&log);
-    let mut rows = rows?;
+    let trace = traced?;
+    let listing_text = if listings {
+        trace.listings()
+    } else {
+        String::new()
+    };
+    let mut rows = trace.rows()?;
     for row in &mut rows {
         row.max_stack_bytes = output
             .lines()
@@ -350,19 +385,19 @@ pub fn measure(target: Target, only: &[String]) -> Result<Vec<Row>, String> {
                 )
             })?;
     }
-    Ok(rows)
+    Ok((rows, listing_text))
 }
 
 /// Reads QEMU's log at `path` as `child` writes it, up to [`END_SYMBOL`],
-/// and returns the rows. An error if QEMU stops before the log reaches it or
+/// and returns the trace. An error if QEMU stops before the log reaches it or
 /// the run takes longer than `limit`.
 fn follow_trace(
     path: &Path,
     child: &mut Child,
-    target: Target,
-    only: &[String],
+    mut trace: Trace,
     limit: Duration,
-) -> Result<Vec<Row>, String> {
+) -> Result<Trace, String> {
+    let target = trace.target;
     let start = Instant::now();
     let pause = Duration::from_millis(2);
     let timeout = || {
@@ -397,7 +432,6 @@ fn follow_trace(
         std::thread::sleep(pause);
     };
     let mut reader = BufReader::with_capacity(1 << 20, file);
-    let mut trace = Trace::new(target, only);
     let mut line = String::new();
     // Once QEMU has exited, what remains in the log is read to its end.
     let mut exited = None;
@@ -407,7 +441,7 @@ fn follow_trace(
             .map_err(|e| format!("{}: {e}", path.display()))?;
         if line.ends_with('\n') {
             if trace.feed(&line)? {
-                return trace.rows();
+                return Ok(trace);
             }
             line.clear();
         } else if n == 0 {
@@ -443,11 +477,16 @@ struct Open {
     return_pc: u32,
     instructions: u64,
     cycles: u64,
+    /// The executed instructions' addresses, when listings are kept.
+    pcs: Vec<u32>,
 }
 
 #[derive(Default, Clone)]
 struct Tally {
     calls: Vec<(u64, u64)>,
+    /// The executed addresses of the first call of each instruction count
+    /// (when listings are kept).
+    firsts: std::collections::BTreeMap<u64, Vec<u32>>,
 }
 
 /// The state of the trace parser, fed one log line at a time.
@@ -467,10 +506,14 @@ struct Trace {
     prev_pc: Option<u32>,
     /// The previous executed instruction's symbol.
     prev_symbol: String,
+    /// Keep the executed addresses of calls (`--listings`).
+    listings: bool,
+    /// The symbol of each executed address (for the listings).
+    symbols: HashMap<u32, String>,
 }
 
 impl Trace {
-    fn new(target: Target, only: &[String]) -> Self {
+    fn new(target: Target, only: &[String], listings: bool) -> Self {
         let expected = expected_rows(only);
         Self {
             target,
@@ -482,6 +525,8 @@ impl Trace {
             delta: None,
             prev_pc: None,
             prev_symbol: String::new(),
+            listings,
+            symbols: HashMap::new(),
         }
     }
 
@@ -522,9 +567,11 @@ impl Trace {
                                 ROWS[call.row].0, call.delta
                             )
                         })?;
-                    self.tallies[slot]
-                        .calls
-                        .push((call.instructions, call.cycles));
+                    let tally = &mut self.tallies[slot];
+                    tally.calls.push((call.instructions, call.cycles));
+                    if self.listings {
+                        tally.firsts.entry(call.instructions).or_insert(call.pcs);
+                    }
                 }
             }
         }
@@ -549,11 +596,20 @@ impl Trace {
                     // The call instruction itself.
                     instructions: 1,
                     cycles: u64::from(cost[1]),
+                    pcs: if self.listings {
+                        vec![prev_pc]
+                    } else {
+                        Vec::new()
+                    },
                 });
             }
         }
         if let Some(call) = self.open.as_mut() {
             call.instructions += 1;
+            if self.listings {
+                call.pcs.push(pc);
+                self.symbols.entry(pc).or_insert_with(|| symbol.to_string());
+            }
         }
         self.prev_pc = Some(pc);
         if entered {
@@ -563,12 +619,44 @@ impl Trace {
         Ok(false)
     }
 
+    /// For every row at δ = 1 and every distinct instruction count of its
+    /// calls: the count, the number of calls with it, and the executed
+    /// instructions of the first such call, one per line (address, function,
+    /// mnemonic, operands; the call instruction's function is the caller).
+    fn listings(&self) -> String {
+        use std::fmt::Write;
+        let mut out = String::new();
+        for (&(row, delta), tally) in self.expected.iter().zip(&self.tallies) {
+            if delta != BASE_DELTA {
+                continue;
+            }
+            for (&count, pcs) in &tally.firsts {
+                let calls = tally.calls.iter().filter(|c| c.0 == count).count();
+                let _ = writeln!(
+                    out,
+                    "listing {} {} δ = 1: {count} instructions, {calls} of {} calls",
+                    self.target.triple,
+                    ROWS[row].1,
+                    tally.calls.len()
+                );
+                for pc in pcs {
+                    let symbol = self.symbols.get(pc).map_or("(caller)", String::as_str);
+                    let (mnemonic, operands) = self.insns.get(pc).map_or(("?", ""), |(i, _)| {
+                        (i.mnemonic.as_str(), i.operands.as_str())
+                    });
+                    let _ = writeln!(out, "  {pc:#010x} {symbol:<32} {mnemonic:<8} {operands}");
+                }
+            }
+        }
+        out
+    }
+
     /// The rows, in the order of [`expected_rows`].
-    fn rows(self) -> Result<Vec<Row>, String> {
+    fn rows(&self) -> Result<Vec<Row>, String> {
         let target = self.target;
         self.expected
             .iter()
-            .zip(self.tallies)
+            .zip(&self.tallies)
             .map(|(&(row, delta), tally)| {
                 let (symbol, name) = ROWS[row];
                 let n = tally.calls.len();
@@ -706,5 +794,80 @@ fn cycles(insn: &Insn, taken: bool, m0: bool) -> u32 {
         }
         _ if base.starts_with("str") => 2,
         _ => 1,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A log of three calls of `bench_shape_f32` after the δ = 1 marker:
+    /// 5, 6 and 5 instructions, the call instruction included.
+    fn log() -> Vec<String> {
+        let mut lines = vec![
+            "0x00000100:  f000 f800  bl       #0x200".to_string(),
+            "0x00000104:  f000 f800  bl       #0x200".to_string(),
+            "0x00000108:  f000 f800  bl       #0x300".to_string(),
+            "0x00000200:  4770       bx       lr".to_string(),
+            "0x00000300:  2001       movs     r0, #1".to_string(),
+            "0x00000302:  2800       cmp      r0, #0".to_string(),
+            "0x00000304:  d100       bne      #0x308".to_string(),
+            "0x00000306:  2002       movs     r0, #2".to_string(),
+            "0x00000308:  4770       bx       lr".to_string(),
+        ];
+        let exec = |pc: u32, symbol: &str| {
+            format!("Trace 0: 0x7f0000000000 [00000000/{pc:08x}/00000110/ff000201] {symbol}")
+        };
+        lines.push(exec(0x100, "main"));
+        lines.push(exec(0x200, "profile_delta_1"));
+        lines.push(exec(0x104, "main"));
+        // bne taken: 0x300, 0x302, 0x304, 0x308; not taken: 0x306 too.
+        for skip in [true, false, true] {
+            lines.push(exec(0x108, "main"));
+            for pc in [0x300, 0x302, 0x304, 0x306, 0x308] {
+                if !(skip && pc == 0x306) {
+                    lines.push(exec(pc, "bench_shape_f32"));
+                }
+            }
+            // The return, not counted.
+            lines.push(exec(0x10c, "main"));
+        }
+        lines.push(exec(0x400, END_SYMBOL));
+        lines
+    }
+
+    #[test]
+    fn listings_give_one_call_per_count_and_sum_to_the_total() {
+        let only = ["shape_f32".to_string()];
+        let mut trace = Trace::new(qemu::TARGETS[0], &only, true);
+        let mut ended = false;
+        for line in log() {
+            ended = trace.feed(&line).unwrap();
+        }
+        assert!(ended);
+        let rows = trace.rows().unwrap();
+        assert_eq!(rows.len(), 1);
+        assert_eq!((rows[0].calls, rows[0].max_instructions), (3, 6));
+        // The call instruction counts: 1 + 4 (+ 1 when bne falls through).
+        assert!((rows[0].instructions - 16.0 / 3.0).abs() < 1e-12);
+        let text = trace.listings();
+        let headers: Vec<&str> = text.lines().filter(|l| l.starts_with("listing")).collect();
+        assert_eq!(
+            headers,
+            [
+                "listing thumbv7em-none-eabihf shape_f32 δ = 1: 5 instructions, 2 of 3 calls",
+                "listing thumbv7em-none-eabihf shape_f32 δ = 1: 6 instructions, 1 of 3 calls",
+            ]
+        );
+        let body: Vec<&str> = text.lines().filter(|l| l.starts_with("  ")).collect();
+        assert_eq!(body.len(), 5 + 6);
+        assert!(body[0].contains("(caller)") && body[0].contains("bl"));
+        assert!(body[1].contains("bench_shape_f32") && body[1].contains("movs"));
+        // Without listings nothing is kept.
+        let mut plain = Trace::new(qemu::TARGETS[0], &only, false);
+        for line in log() {
+            plain.feed(&line).unwrap();
+        }
+        assert!(plain.listings().is_empty());
     }
 }
