@@ -42,11 +42,12 @@
 //! differences (one pass along the record each).
 
 use crate::reference::{
-    Asymmetry, Drift, DwellStiction, Effect, Friction, FrictionalLag, Model, NonlinearViscous,
-    Offset, PositionRipple,
+    stribeck_decay, Asymmetry, Drift, DwellStiction, Effect, Friction, FrictionalLag, Model,
+    NonlinearViscous, Offset, PositionRipple, SampleTerms,
 };
 use rayon::prelude::*;
 use std::f64::consts::PI;
+use std::sync::{Arc, Mutex};
 
 /// Rest threshold in counts per sample: `v_rest = 0.02·q/h`, i.e. a rest
 /// is where the position has stayed on its encoder count for 50 samples
@@ -284,6 +285,57 @@ pub struct Prepared {
     /// Force-noise level of the residual in fast sliding [N] (0 until
     /// [`Prepared::set_error_weights`]).
     pub sigma0: f64,
+    /// The per-sample terms of the last few shapes walked.
+    terms: TermCache,
+}
+
+/// How many shapes [`TermCache`] keeps of each kind.
+const TERM_CACHE_LEN: usize = 4;
+
+/// The per-sample Stribeck decays (by V and δ) and `|v|^n` (by n) along
+/// [`Prepared::model_velocity`] of the last shapes walked: a fit walks many
+/// models of one shape (every difference column but those of V, δ and n),
+/// and `pow`/`exp` were a third of a walk's time. The walk is the same to
+/// the last bit (see [`SampleTerms`]). A clone starts empty.
+#[derive(Debug, Default)]
+struct TermCache {
+    decay: Shapes<[u64; 2]>,
+    speed_pow: Shapes<u64>,
+}
+
+/// Per-sample series by the bits of their shape parameters, oldest first.
+type Shapes<K> = Mutex<Vec<(K, Arc<Vec<f64>>)>>;
+
+impl Clone for TermCache {
+    fn clone(&self) -> Self {
+        TermCache::default()
+    }
+}
+
+impl TermCache {
+    /// The entry for `key` in `cache`, made by `make` when missing (the
+    /// newest last; the oldest dropped beyond [`TERM_CACHE_LEN`]).
+    fn get<K: PartialEq + Copy>(
+        cache: &Shapes<K>,
+        key: K,
+        make: impl FnOnce() -> Vec<f64>,
+    ) -> Arc<Vec<f64>> {
+        let lock = || cache.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some((_, v)) = lock().iter().find(|(k, _)| *k == key) {
+            return Arc::clone(v);
+        }
+        let made = Arc::new(make());
+        let mut entries = lock();
+        if entries.len() >= TERM_CACHE_LEN {
+            entries.remove(0);
+        }
+        entries.push((key, Arc::clone(&made)));
+        made
+    }
+
+    fn clear(&mut self) {
+        *self = TermCache::default();
+    }
 }
 
 /// Quadratic Savitzky–Golay coefficients of the first and second derivative
@@ -424,6 +476,7 @@ impl Prepared {
             var: vec![0.0; n],
             sigma0: 0.0,
             force_noise: force_noise(&rec.u, xs),
+            terms: TermCache::default(),
         };
         p.set_split();
         p.set_weights();
@@ -644,6 +697,8 @@ impl Prepared {
     /// on the record sees the same still samples.
     pub fn mark_stops(&mut self, m: &Model) {
         let n = self.len();
+        // The model velocity changes with the still samples.
+        self.terms.clear();
         self.still.clone_from(&self.window_still);
         let h = STOP_HALF_WIDTH;
         let valid = self.valid();
@@ -720,9 +775,27 @@ impl Prepared {
     /// of the lab over a record goes through here, so they all see the same
     /// memory.
     pub fn walk(&self, m: &Model, mut f: impl FnMut(usize, &Friction)) {
+        let along = |g: &dyn Fn(f64) -> f64| -> Vec<f64> {
+            (0..self.len()).map(|i| g(self.model_velocity(i))).collect()
+        };
+        let decay = m.effects.frictional_lag.is_none().then(|| {
+            let (v_s, delta) = (m.v_stribeck, m.delta);
+            TermCache::get(&self.terms.decay, [v_s.to_bits(), delta.to_bits()], || {
+                along(&|v| stribeck_decay(v_s, delta, v))
+            })
+        });
+        let speed_pow = m.effects.nonlinear_viscous.map(|nv| {
+            TermCache::get(&self.terms.speed_pow, nv.n.to_bits(), || {
+                along(&|v| v.abs().powf(nv.n))
+            })
+        });
         let mut fr = Friction::new(m, self.t[0], self.x[0], self.model_velocity(0));
         for i in 0..self.len() {
-            fr.update(m, self.t[i], self.x[i], self.model_velocity(i));
+            let terms = SampleTerms {
+                decay: decay.as_ref().map(|d| d[i]),
+                speed_pow: speed_pow.as_ref().map(|p| p[i]),
+            };
+            fr.update_with(m, self.t[i], self.x[i], self.model_velocity(i), terms);
             f(i, &fr);
             if self.still[i] {
                 let additive = fr.force() - fr.dry();

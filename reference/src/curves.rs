@@ -3,13 +3,10 @@
 
 use crate::model::Model;
 
-/// Stribeck magnitude with explicit parameters:
-/// `Fc + (Fs − Fc)·exp(−(|v|/V)^δ)` [N].
-pub(crate) fn stribeck_raw(fc: f64, fs: f64, v_stribeck: f64, delta: f64, v: f64) -> f64 {
-    if fs == fc {
-        // No dip: the decay multiplies zero (same bits as the full form).
-        return fc;
-    }
+/// The Stribeck decay `exp(−(|v|/V)^δ)` (§2) at velocity `v` [m/s] for
+/// the Stribeck velocity `v_stribeck` [m/s] and shape exponent `delta`: 1
+/// at rest, towards 0 in gross sliding.
+pub fn stribeck_decay(v_stribeck: f64, delta: f64, v: f64) -> f64 {
     let r = v.abs() / v_stribeck;
     let p = if delta == 1.0 {
         r
@@ -20,8 +17,27 @@ pub(crate) fn stribeck_raw(fc: f64, fs: f64, v_stribeck: f64, delta: f64, v: f64
     };
     // exp(−p) is 0 to the last bit beyond p = 745.2 (the smallest
     // subnormal is e^−744.4); its underflow path is slow.
-    let decay = if p > 746.0 { 0.0 } else { (-p).exp() };
-    fc + (fs - fc) * decay
+    if p > 746.0 {
+        0.0
+    } else {
+        (-p).exp()
+    }
+}
+
+/// Stribeck magnitude `Fc + (Fs − Fc)·decay` [N] from the decay of
+/// [`stribeck_decay`]; without a dip (`Fs = Fc`) the decay multiplies zero
+/// and is not needed (the same bits as the full form).
+pub(crate) fn stribeck_from_decay(fc: f64, fs: f64, decay: impl FnOnce() -> f64) -> f64 {
+    if fs == fc {
+        return fc;
+    }
+    fc + (fs - fc) * decay()
+}
+
+/// Stribeck magnitude with explicit parameters:
+/// `Fc + (Fs − Fc)·exp(−(|v|/V)^δ)` [N].
+pub(crate) fn stribeck_raw(fc: f64, fs: f64, v_stribeck: f64, delta: f64, v: f64) -> f64 {
+    stribeck_from_decay(fc, fs, || stribeck_decay(v_stribeck, delta, v))
 }
 
 /// `S(v) = Fc + (Fs − Fc)·exp(−(|v|/V)^δ)` [N] (§2), the magnitude of the

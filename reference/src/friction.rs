@@ -25,10 +25,21 @@
 //!   `v_l ← e·v_l + v₁ − e·v₀ − (v₁ − v₀)·(1 − e)·τ_L/h`, `e = exp(−h/τ_L)`.
 //! * `drift`: `t` is counted from `t0` given to [`Friction::new`].
 
-use crate::curves::stribeck_raw;
+use crate::curves::{stribeck_decay, stribeck_from_decay};
 use crate::model::Model;
 use crate::presliding::Presliding;
 use std::f64::consts::PI;
+
+/// Per-sample terms of [`Friction::update_with`] that depend only on the
+/// sample's velocity `v` [m/s] and the model's shape; `None`: computed.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SampleTerms {
+    /// The Stribeck decay `exp(−(|v|/V)^δ)` ([`stribeck_decay`]); not used
+    /// with `frictional_lag`.
+    pub decay: Option<f64>,
+    /// `|v|^n` of `nonlinear_viscous`.
+    pub speed_pow: Option<f64>,
+}
 
 /// Friction force of the full §5 composition, with its memory.
 #[derive(Clone, Debug, PartialEq)]
@@ -70,6 +81,15 @@ impl Friction {
     /// Takes the sample at time `t` [s], position `x` [m], velocity `v` [m/s]
     /// and returns the friction force `F` [N] of the §5 composition.
     pub fn update(&mut self, m: &Model, t: f64, x: f64, v: f64) -> f64 {
+        self.update_with(m, t, x, v, SampleTerms::default())
+    }
+
+    /// [`Friction::update`] with the terms of `terms` given instead of
+    /// computed (the same result to the last bit when they are those of
+    /// `m` and `v`): a caller that runs many models of one shape over the
+    /// same velocities computes them once. Terms that do not belong to
+    /// `m` and `v` give a wrong force.
+    pub fn update_with(&mut self, m: &Model, t: f64, x: f64, v: f64, terms: SampleTerms) -> f64 {
         let e = &m.effects;
         // Frictional lag.
         match &e.frictional_lag {
@@ -110,9 +130,14 @@ impl Friction {
         } else {
             v
         };
+        // With `frictional_lag` the curve sees the lagged velocity, which
+        // no precomputed term knows.
+        let decay = terms.decay.filter(|_| e.frictional_lag.is_none());
         let s_of = |d: i8| {
             let sc = (1.0 + asym * f64::from(d)) * drift;
-            stribeck_raw(m.fc * sc, m.fs * sc + dwell, m.v_stribeck, m.delta, v_s)
+            stribeck_from_decay(m.fc * sc, m.fs * sc + dwell, || {
+                decay.unwrap_or_else(|| stribeck_decay(m.v_stribeck, m.delta, v_s))
+            })
         };
         let h = self.pre.step(x, m.z_max, m.epsilon, s_of);
         let mut f = h + m.sigma * v;
@@ -120,7 +145,8 @@ impl Friction {
             f += o.f0;
         }
         if let Some(nv) = &e.nonlinear_viscous {
-            f += nv.sigma_n * v.signum() * v.abs().powf(nv.n);
+            let speed_pow = terms.speed_pow.unwrap_or_else(|| v.abs().powf(nv.n));
+            f += nv.sigma_n * v.signum() * speed_pow;
         }
         if let Some(r) = &e.position_ripple {
             f += r.amplitude * (2.0 * PI * x / r.wavelength + r.phase).sin();

@@ -26,9 +26,9 @@ pub mod predict;
 pub mod presliding;
 pub mod sim;
 
-pub use curves::{shape, steady_state, stribeck};
+pub use curves::{shape, steady_state, stribeck, stribeck_decay};
 pub use effect::{Effect, UnknownEffect};
-pub use friction::Friction;
+pub use friction::{Friction, SampleTerms};
 pub use model::{
     Asymmetry, Drift, DwellStiction, Effects, FrictionalLag, Model, ModelError, NonlinearViscous,
     Offset, PositionRipple,

@@ -349,3 +349,46 @@ fn frictional_lag_is_an_exact_first_order_filter() {
     // S is evaluated at v_l (gross sliding, w = 1).
     assert_close!(f.dry(), stribeck(&m, vl2));
 }
+
+/// `update_with` given the terms of the model and the sample (the Stribeck
+/// decay, `|v|^n`) is `update` to the last bit, with and without a dip,
+/// with the effects that scale the levels, and with `frictional_lag`, whose
+/// lagged velocity makes the curve ignore a given decay.
+#[test]
+fn update_with_its_own_terms_is_update() {
+    let mut dip = base();
+    dip.delta = 1.3;
+    dip.effects.asymmetry = Some(Asymmetry { a: 0.1 });
+    dip.effects.nonlinear_viscous = Some(NonlinearViscous {
+        sigma_n: 0.4,
+        n: 0.6,
+    });
+    let mut flat = dip.clone();
+    flat.fs = flat.fc;
+    let mut lag = dip.clone();
+    lag.effects.frictional_lag = Some(FrictionalLag { tau_l: 0.02 });
+    for m in [dip, flat, lag] {
+        let (mut plain, mut given) = (
+            Friction::new(&m, 0.0, 0.0, 0.0),
+            Friction::new(&m, 0.0, 0.0, 0.0),
+        );
+        let mut seen_decay = false;
+        for i in 0..4000 {
+            let t = i as f64 * 1e-3;
+            let x = 2e-4 * (3.0 * t).sin() + 1e-5 * (40.0 * t).sin();
+            let v = 6e-4 * (3.0 * t).cos() + 4e-4 * (40.0 * t).cos();
+            let decay = stribeck_decay(m.v_stribeck, m.delta, v);
+            seen_decay |= decay > 1e-3 && decay < 0.999;
+            let terms = SampleTerms {
+                decay: Some(decay),
+                speed_pow: Some(v.abs().powf(0.6)),
+            };
+            let (a, b) = (
+                plain.update(&m, t, x, v),
+                given.update_with(&m, t, x, v, terms),
+            );
+            assert_eq!(a.to_bits(), b.to_bits(), "t = {t}: {a} vs {b}");
+        }
+        assert!(seen_decay, "the motion never reached the dip");
+    }
+}
