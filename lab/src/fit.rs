@@ -877,11 +877,15 @@ impl Prepared {
         f
     }
 
+    /// `ū − F` of `m` at every sample [N], before the force kernel.
+    fn force_gap(&self, m: &Model) -> Vec<f64> {
+        let f = self.friction(m);
+        self.u_mid.iter().zip(&f).map(|(u, f)| u - f).collect()
+    }
+
     /// The residual `r_i` of `m` (0 outside the valid range).
     pub fn residual(&self, m: &Model) -> Vec<f64> {
-        let f = self.friction(m);
-        let d: Vec<f64> = self.u_mid.iter().zip(&f).map(|(u, f)| u - f).collect();
-        let mut r = self.filter_all(&d);
+        let mut r = self.filter_all(&self.force_gap(m));
         for i in self.valid() {
             r[i] -= m.mass * self.a[i];
         }
@@ -967,9 +971,7 @@ impl Prepared {
     /// [`Prepared::residual`] on one side of the split only (see
     /// [`Prepared::filter_on`]).
     pub fn residual_on(&self, m: &Model, side: bool) -> Vec<f64> {
-        let f = self.friction(m);
-        let d: Vec<f64> = self.u_mid.iter().zip(&f).map(|(u, f)| u - f).collect();
-        let mut r = self.filter_on(&d, side);
+        let mut r = self.filter_on(&self.force_gap(m), side);
         for i in self.valid().filter(|&i| self.held_out[i] == side) {
             r[i] -= m.mass * self.a[i];
         }

@@ -210,6 +210,26 @@ fn bic(p: &Prepared, rms: f64, n_params: usize) -> f64 {
     n * (rms * rms).max(1e-300).ln() + n_params as f64 * n.ln()
 }
 
+/// Whether `m`, fitted with `effect` on top of `base`, ended inside its
+/// ranges: no degenerate parameter, no dip run to its bound that `base`
+/// did not have.
+fn sound_fit(p: &Prepared, base: &Model, m: &Model, effect: Effect) -> bool {
+    degenerate(p, m, effect).is_none() && !dip_run_to_bound(base, m)
+}
+
+/// `effect` fitted on top of `base` (residual `r`) from its starts,
+/// preferring a sound fit ([`sound_fit`]); `None` without starts or when
+/// the fit lost the effect.
+fn fit_candidate(p: &Prepared, base: &Model, r: &[f64], effect: Effect) -> Option<Model> {
+    let starts = candidate_starts(p, base, effect, r);
+    if starts.is_empty() {
+        return None;
+    }
+    let sound = |m: &Model| sound_fit(p, base, m, effect);
+    let fitted = fit_multistart(p, &starts, &sound, &mut |_| {});
+    fit::has_effect(&fitted, effect).then_some(fitted)
+}
+
 /// Runs the workflow on `rec` from `start` (`None`: the base model
 /// identified from the data).
 pub fn diagnose(
@@ -288,16 +308,7 @@ pub fn diagnose(
         ));
         let fits: Vec<Option<(Effect, Model)>> = missing
             .par_iter()
-            .map(|&effect| {
-                let starts = candidate_starts(&p, &model, effect, &r);
-                if starts.is_empty() {
-                    return None;
-                }
-                let sound =
-                    |m: &Model| degenerate(&p, m, effect).is_none() && !dip_run_to_bound(&model, m);
-                let fitted = fit_multistart(&p, &starts, &sound, &mut |_| {});
-                fit::has_effect(&fitted, effect).then_some((effect, fitted))
-            })
+            .map(|&effect| fit_candidate(&p, &model, &r, effect).map(|m| (effect, m)))
             .collect();
         for (effect, fitted) in fits.into_iter().flatten() {
             // Dwell *time* stiction must make the break-away depend on the
@@ -438,16 +449,8 @@ pub fn diagnose(
             let fits: Vec<Option<(f64, Effect, Model)>> = alts
                 .par_iter()
                 .map(|&alt| {
-                    let starts = candidate_starts(&p, &base, alt, &base_r);
-                    if starts.is_empty() {
-                        return None;
-                    }
-                    let sound =
-                        |m: &Model| degenerate(&p, m, alt).is_none() && !dip_run_to_bound(&base, m);
-                    let fitted = fit_multistart(&p, &starts, &sound, &mut |_| {});
-                    if !fit::has_effect(&fitted, alt) || !sound(&fitted) {
-                        return None;
-                    }
+                    let fitted = fit_candidate(&p, &base, &base_r, alt)
+                        .filter(|m| sound_fit(&p, &base, m, alt))?;
                     let a_rms = held_rms(&p, &fitted).0;
                     let b = bic(&p, a_rms, fit::params_of(&fitted).len());
                     Some((b, alt, fitted))
