@@ -15,11 +15,9 @@
 #[path = "common/mod.rs"]
 mod common;
 
-use breakaway::{BreakAwayPredictor, Presliding, Scalar, Variant, DEFAULT_BOUNDARY, Q16};
+use breakaway::{BreakAwayPredictor, Presliding, Variant, DEFAULT_BOUNDARY, Q16};
 use cortex_m_rt::entry;
 use cortex_m_semihosting::hprintln;
-
-type Fx = Q16<16>;
 
 /// Metres per step of the reversal trajectory (z_max/1000).
 const STEP: f32 = 1e-8;
@@ -31,7 +29,7 @@ const SAMPLES: i32 = 600;
 
 #[entry]
 fn main() -> ! {
-    let model = common::model::<Fx>(common::FIG5);
+    let model = common::model::<Q16>(common::FIG5);
     // Velocity in units of V per trajectory step per sample, converted once.
     let Some(per_step) = model.velocity(STEP / DT) else {
         common::exit_failure("velocity scale out of range");
@@ -41,13 +39,13 @@ fn main() -> ! {
         let Some(scale) = model.position_scale::<i32>(count) else {
             common::exit_failure("encoder scale out of range");
         };
-        let Ok(mut axis) = Presliding::<i32, Fx>::new(0, scale) else {
+        let Ok(mut axis) = Presliding::<i32, Q16>::new(0, scale) else {
             common::exit_failure("invalid scale");
         };
         let mut last = 0;
         for n in 0..SAMPLES {
             let step = common::reversal_trajectory(n);
-            let v = Fx::saturating_from_int(step - last) * per_step;
+            let v = Q16::saturating_from_int(step - last) * per_step;
             last = step;
             // The trajectory read by this encoder: |count| ≤ 1.9·10⁷.
             let count = (i64::from(step) * per_z_max / 1000) as i32;
@@ -62,7 +60,7 @@ fn main() -> ! {
     };
     // k = 0.01, 1, 5, 10, 30 N/s in units of Fs/s (Fs = 1.5 N).
     for k in [0.01f32, 1.0, 5.0, 10.0, 30.0] {
-        let Some(k) = Fx::from_f32(k / common::FIG5.fs) else {
+        let Some(k) = Q16::from_f32(k / common::FIG5.fs) else {
             common::exit_failure("rate out of range");
         };
         for variant in Variant::ALL {

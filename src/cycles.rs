@@ -12,6 +12,7 @@ use cortex_m::peripheral::{DCB, DWT};
 /// The outcome of a measurement.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub enum Cycles {
     /// Core clock cycles between the two reads of the counter, including
     /// the closure call and about two cycles of read overhead.

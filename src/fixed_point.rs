@@ -1,16 +1,18 @@
 //! The model in fixed point, for MCUs without an FPU
 //! ([units](crate::model_overview#fixed-point-units)).
 //!
-//! [`Q16<K>`] is a Q16.16 number (`fixed::types::I16F16`: 16 integer and 16
+//! [`Q16`] is a Q16.16 number (`fixed::types::I16F16`: 16 integer and 16
 //! fractional bits, range ±32768, resolution 1.5e-5) whose arithmetic
 //! **saturates and never wraps**; division by zero saturates too. It runs the
 //! same generic state machine and predictor as `f32`
 //! ([`Presliding`](crate::Presliding), [`BreakAwayPredictor`](crate::BreakAwayPredictor)),
-//! with the two curves taken from tables instead of transcendental functions.
+//! with the two curves taken from tables instead of transcendental functions:
+//! [`TableCurves<K>`](TableCurves), `K` points per octave (`Model<Q16>` is
+//! `Model<Q16, TableCurves<16>>`).
 //!
 //! # Per-unit scaling
 //!
-//! A `Model<Q16<K>>` carries every quantity in units of the model itself
+//! A `Model<Q16>` carries every quantity in units of the model itself
 //! ([`Units`]):
 //!
 //! | quantity | unit | range |
@@ -50,7 +52,7 @@
 //! F_ba.
 //!
 //! ```
-//! use breakaway::{Model, Params, Presliding, Scalar, Q16};
+//! use breakaway::{Model, Params, Presliding, Q16};
 //!
 //! let params = Params { fc: 1.0, fs: 1.5, v_stribeck: 1e-3, delta: 1.0,
 //!                       sigma: 0.0, z_max: 1e-5, epsilon: 0.0 };
@@ -68,7 +70,8 @@
 //! # Tables
 //!
 //! S and g are tabulated (with `libm`, once) on an
-//! *octave* grid: K points per octave of the Q16.16 raw value, so the grid is
+//! *octave* grid: K points per octave (the `K` of
+//! [`TableCurves<K>`](TableCurves), a power of two from 4 to 256) of the Q16.16 raw value, so the grid is
 //! fine where the curves are steep — g(w) = w·(1 − ln w) has an infinite slope
 //! at w = 0, and S(v) one at v = 0 for δ < 1 — and coarse where they are
 //! flat. Between points the value is interpolated linearly; below K raw
@@ -107,19 +110,21 @@ use core::ops::{Add, Div, Mul, Neg, Sub};
 
 use fixed::types::I16F16;
 
+use crate::curves::{fixed_point_root, Curves, DefaultCurves};
 use crate::model::Model;
 use crate::params::{ParamError, Params};
 use crate::position::Position;
-use crate::scalar::{Curves, Scalar, Units};
+use crate::scalar::{Scalar, Units};
 
-/// A Q16.16 fixed-point number with saturating arithmetic; `K` is the number
-/// of table points per octave of the model's curves (a power of two, 4 to
-/// 256).
+/// A Q16.16 fixed-point number with saturating arithmetic (range ±32768,
+/// resolution 2⁻¹⁶ of the model unit it carries, see the module
+/// documentation). The resolution of a model's tables is the curves' own
+/// parameter ([`TableCurves<K>`](TableCurves)), not the number's.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct Q16<const K: usize = 16>(pub I16F16);
+pub struct Q16(pub I16F16);
 
-impl<const K: usize> Q16<K> {
+impl Q16 {
     /// 1/256: z_max⁻¹ in units of (z_max/256)⁻¹.
     const ONE_OVER_256: Self = Self::from_bits(1 << 8);
 
@@ -140,9 +145,24 @@ impl<const K: usize> Q16<K> {
     pub fn saturating_from_int(n: i32) -> Self {
         Self::from_bits(n.clamp(-(1 << 15), (1 << 15) - 1) << 16)
     }
+
+    /// The nearest Q16.16 number to `x` (in the model unit it is to carry);
+    /// `None` for NaN, ±∞ and |x| beyond the range. As
+    /// [`Scalar::from_f32`], without the trait in scope.
+    #[inline]
+    pub fn from_f32(x: f32) -> Option<Self> {
+        I16F16::checked_from_num(x).map(Self)
+    }
+
+    /// The value as `f32` (in the model unit it carries; exact below 2⁸,
+    /// else to 24 bits). As [`Scalar::to_f32`], without the trait in scope.
+    #[inline]
+    pub fn to_f32(self) -> f32 {
+        self.0.to_num::<f32>()
+    }
 }
 
-impl<const K: usize> Add for Q16<K> {
+impl Add for Q16 {
     type Output = Self;
     #[inline(always)]
     fn add(self, rhs: Self) -> Self {
@@ -150,7 +170,7 @@ impl<const K: usize> Add for Q16<K> {
     }
 }
 
-impl<const K: usize> Sub for Q16<K> {
+impl Sub for Q16 {
     type Output = Self;
     #[inline(always)]
     fn sub(self, rhs: Self) -> Self {
@@ -158,7 +178,7 @@ impl<const K: usize> Sub for Q16<K> {
     }
 }
 
-impl<const K: usize> Mul for Q16<K> {
+impl Mul for Q16 {
     type Output = Self;
     /// The product rounded to nearest and saturated.
     #[inline(always)]
@@ -374,7 +394,7 @@ fn div_positive_raw(a: u32, b: u32) -> i32 {
     shift_round((product >> 32) as i32, product as u32, e.wrapping_add(14))
 }
 
-impl<const K: usize> Div for Q16<K> {
+impl Div for Q16 {
     type Output = Self;
     /// Saturating division; x/0 saturates by the sign of x (0/0 = 0).
     #[inline(always)]
@@ -390,7 +410,7 @@ impl<const K: usize> Div for Q16<K> {
     }
 }
 
-impl<const K: usize> Neg for Q16<K> {
+impl Neg for Q16 {
     type Output = Self;
     #[inline(always)]
     fn neg(self) -> Self {
@@ -398,21 +418,18 @@ impl<const K: usize> Neg for Q16<K> {
     }
 }
 
-impl<const K: usize> Scalar for Q16<K> {
+impl Scalar for Q16 {
     const ZERO: Self = Self(I16F16::ZERO);
     const ONE: Self = Self(I16F16::ONE);
     const MAX: Self = Self(I16F16::MAX);
-    /// 2⁻¹³: a few units of the resolution.
-    const TOLERANCE: Self = Self(I16F16::from_bits(8));
-    type Curves = TableCurves<K>;
 
     #[inline]
     fn from_f32(x: f32) -> Option<Self> {
-        I16F16::checked_from_num(x).map(Self)
+        Q16::from_f32(x)
     }
     #[inline]
     fn to_f32(self) -> f32 {
-        self.0.to_num::<f32>()
+        Q16::to_f32(self)
     }
     #[inline(always)]
     fn is_finite(self) -> bool {
@@ -446,18 +463,9 @@ impl<const K: usize> Scalar for Q16<K> {
         let rounded = mul_split_in_range(self.to_bits(), rhs.to_bits());
         Self::from_bits(rounded)
     }
-    /// Force in units of Fs, velocity in units of V, length in units of
-    /// z_max/256.
-    fn units(params: &Params) -> Units {
-        Units {
-            force: params.fs,
-            velocity: params.v_stribeck,
-            length: params.z_max / LENGTH_STEPS_PER_Z_MAX,
-        }
-    }
 }
 
-impl<const K: usize> Model<Q16<K>> {
+impl<const K: usize> Model<Q16, TableCurves<K>> {
     /// A valid model to fill in place with [`Model::set_params`]: the unit
     /// Coulomb model Fc = Fs = 1 N, V = 1 m/s, δ = 1, σ = 0, z_max = 1 m,
     /// ε = 0. A `const`, so that it is written straight into a `static` or
@@ -578,7 +586,7 @@ impl CountScale {
     /// magnitude and needs no saturation. Else the full product is shifted
     /// and saturated.
     #[inline(always)]
-    fn apply<const K: usize>(self, counts: i32) -> Q16<K> {
+    fn apply(self, counts: i32) -> Q16 {
         if self.pre < 32 {
             let scaled = counts.wrapping_shl(self.pre);
             if scaled >> self.pre == counts {
@@ -590,7 +598,7 @@ impl CountScale {
 
     /// [`apply`](Self::apply) for any count difference.
     #[inline(never)]
-    fn apply_wide<const K: usize>(self, counts: i32) -> Q16<K> {
+    fn apply_wide(self, counts: i32) -> Q16 {
         let product = exact_product(counts, self.mantissa);
         Q16::from_bits(if self.shift == 0 {
             saturate_i32(product)
@@ -682,7 +690,7 @@ fn shift_round(hi: i32, lo: u32, s: u32) -> i32 {
 
 /// Encoder counts: the 32-bit wrapping difference times the
 /// [`CountScale`], in 64 bits.
-impl<const K: usize> Position<Q16<K>> for i32 {
+impl Position<Q16> for i32 {
     type Scale = CountScale;
     #[inline(always)]
     fn is_valid(self) -> bool {
@@ -695,7 +703,7 @@ impl<const K: usize> Position<Q16<K>> for i32 {
         true
     }
     #[inline(always)]
-    fn travel_from(self, origin: Self, scale: CountScale) -> Q16<K> {
+    fn travel_from(self, origin: Self, scale: CountScale) -> Q16 {
         scale.apply(self.wrapping_sub(origin))
     }
     #[inline(always)]
@@ -705,7 +713,7 @@ impl<const K: usize> Position<Q16<K>> for i32 {
 }
 
 /// As for `i32`, on the low 32 bits (see the `f32` implementation).
-impl<const K: usize> Position<Q16<K>> for i64 {
+impl Position<Q16> for i64 {
     type Scale = CountScale;
     #[inline(always)]
     fn is_valid(self) -> bool {
@@ -718,7 +726,7 @@ impl<const K: usize> Position<Q16<K>> for i64 {
         true
     }
     #[inline(always)]
-    fn travel_from(self, origin: Self, scale: CountScale) -> Q16<K> {
+    fn travel_from(self, origin: Self, scale: CountScale) -> Q16 {
         scale.apply((self as i32).wrapping_sub(origin as i32))
     }
     #[inline(always)]
@@ -864,9 +872,14 @@ impl<const K: usize, const E: usize> OctaveTable<K, E> {
 
 /// S(v) of one parameter set as an octave table with `K` points per octave
 /// (per-unit: S in units of Fs over v in units of V), and g(w) from the
-/// shared table in flash.
+/// shared table in flash: the curves of a `Model<Q16, TableCurves<K>>`.
+///
+/// `K` is the table's resolution, a power of two from 4 to 256 (checked
+/// at compile time): the S table takes 31·K·2 bytes in the model, and its
+/// interpolation error falls as 1/K² (module documentation). The default,
+/// 16, is the curves of `Model<Q16>`.
 #[derive(Clone, Debug, PartialEq)]
-pub struct TableCurves<const K: usize> {
+pub struct TableCurves<const K: usize = 16> {
     stribeck: OctaveTable<K, STRIBECK_OCTAVES>,
     /// The first guess of the consistent root's Newton iteration, 1/S_mean
     /// = 2/(1 + Fc/Fs) in raw Q16.16, where v·S(v) is monotone
@@ -887,7 +900,25 @@ impl<const K: usize> TableCurves<K> {
     };
 }
 
-impl<const K: usize> Curves<Q16<K>> for TableCurves<K> {
+/// A `Model<Q16>` tabulates S with 16 points per octave.
+impl DefaultCurves for Q16 {
+    type Curves = TableCurves<16>;
+}
+
+impl<const K: usize> Curves<Q16> for TableCurves<K> {
+    /// 2⁻¹³: a few units of the resolution.
+    const TOLERANCE: Q16 = Q16(I16F16::from_bits(8));
+
+    /// Force in units of Fs, velocity in units of V, length in units of
+    /// z_max/256.
+    fn units(params: &Params) -> Units {
+        Units {
+            force: params.fs,
+            velocity: params.v_stribeck,
+            length: params.z_max / LENGTH_STEPS_PER_Z_MAX,
+        }
+    }
+
     /// S takes values in [Fc/Fs, 1] for every valid parameter set: always
     /// representable.
     fn check(_: &Params) -> Result<(), ParamError> {
@@ -919,13 +950,13 @@ impl<const K: usize> Curves<Q16<K>> for TableCurves<K> {
     }
 
     #[inline(always)]
-    fn stribeck(&self, v: Q16<K>) -> Q16<K> {
+    fn stribeck(&self, v: Q16) -> Q16 {
         let r = v.to_bits().unsigned_abs();
         Q16::from_bits(self.stribeck.lookup(r))
     }
 
     #[inline(always)]
-    fn shape(&self, w: Q16<K>) -> Q16<K> {
+    fn shape(&self, w: Q16) -> Q16 {
         let bits = w.to_bits();
         if bits <= 0 {
             return Q16::ZERO;
@@ -945,10 +976,10 @@ impl<const K: usize> Curves<Q16<K>> for TableCurves<K> {
     /// below the fixed-point iteration's tolerance 2⁻¹³; S(v) is then
     /// looked up. Where v·S is not monotone, when c ≤ 0, or when eight
     /// steps do not converge, the default fixed-point iteration.
-    fn consistent_root(&self, c: Q16<K>) -> Option<(Q16<K>, Q16<K>)> {
+    fn consistent_root(&self, c: Q16) -> Option<(Q16, Q16)> {
         let target = c.to_bits();
         if self.newton_start == 0 || target <= 0 {
-            return crate::predictor::fixed_point_root(self, c);
+            return fixed_point_root(self, c);
         }
         // c·2/(1 + Fc/Fs), saturated: at most 2³¹ − 1.
         // The saturating product of this type (the `Scalar` contract).
@@ -957,7 +988,7 @@ impl<const K: usize> Curves<Q16<K>> for TableCurves<K> {
         for _ in 0..NEWTON_ITERATIONS {
             let (s, slope) = self.stribeck.lookup_with_slope(v as u32);
             // v·S ≤ v (S ≤ 1): the product is in range; |h| < 2³¹.
-            let h = Q16::<K>::from_bits(v)
+            let h = Q16::from_bits(v)
                 .mul_in_range(Q16::from_bits(s))
                 .to_bits()
                 .wrapping_sub(target);
@@ -977,7 +1008,7 @@ impl<const K: usize> Curves<Q16<K>> for TableCurves<K> {
             }
             v = next;
         }
-        crate::predictor::fixed_point_root(self, c)
+        fixed_point_root(self, c)
     }
 }
 
@@ -1198,7 +1229,7 @@ mod tests {
             };
             let counts = (next() as i32) >> (next() % 32);
             let want: Q16 = scale.apply_wide(counts);
-            assert_eq!(scale.apply::<16>(counts), want, "{units} × {counts}");
+            assert_eq!(scale.apply(counts), want, "{units} × {counts}");
             if scale.pre < 32 && (counts << scale.pre) >> scale.pre == counts {
                 fast += 1;
             }
@@ -1404,8 +1435,7 @@ mod tests {
                 got.1,
                 Q16::from_bits(curves.stribeck.lookup(got.0.to_bits() as u32))
             );
-            let fixed =
-                crate::predictor::fixed_point_root(&curves, Q16::<16>::from_bits(c)).unwrap();
+            let fixed = fixed_point_root(&curves, Q16::from_bits(c)).unwrap();
             let err_fixed = (f64::from(fixed.0.to_bits()) - root).abs();
             assert!(
                 err_fixed <= root * 2e-3 + 2.0,

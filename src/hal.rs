@@ -58,7 +58,7 @@ impl Duty for f32 {
     }
 }
 
-impl<const K: usize> Duty for Q16<K> {
+impl Duty for Q16 {
     fn of_steps(self, steps: u16) -> u16 {
         // raw ≤ 2¹⁶ and steps < 2¹⁶: the product and the rounding fit u32.
         let raw = self.to_bits().clamp(0, 1 << 16) as u32;

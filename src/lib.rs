@@ -40,7 +40,7 @@ pub mod predictor;
 pub mod presliding;
 pub mod scalar;
 
-pub use crate::curves::{shape_f32, CurvesF32};
+pub use crate::curves::{shape_f32, Curves, CurvesF32, DefaultCurves};
 pub use crate::error::SampleError;
 pub use crate::fixed_point::{CountScale, TableCurves, Q16};
 pub use crate::model::Model;
@@ -50,4 +50,4 @@ pub use crate::predictor::{
     BreakAway, BreakAwayPredictor, PredictError, Variant, DEFAULT_BOUNDARY,
 };
 pub use crate::presliding::{Presliding, ScaleError, TurningPoint};
-pub use crate::scalar::{Curves, Scalar, Units};
+pub use crate::scalar::{Scalar, Units};

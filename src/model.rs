@@ -6,23 +6,28 @@
 // wrap. Integer arithmetic is written with explicit wrapping or checks.
 #![allow(clippy::arithmetic_side_effects)]
 
+use crate::curves::{Curves, DefaultCurves};
 use crate::params::{Param, ParamError, Params};
 use crate::position::Position;
-use crate::scalar::{Curves, Scalar, Units};
+use crate::scalar::{Scalar, Units};
 
 /// A validated friction model in the number type `T`: the coefficients that
 /// the [`Presliding`](crate::Presliding) state machine and the
 /// [`BreakAwayPredictor`](crate::BreakAwayPredictor) read. It holds no state;
 /// one model can serve many axes.
 ///
-/// Quantities on the per-sample path are in the number type's
-/// [`Units`]: SI for `f32`, per-unit for fixed point (force in units of Fs,
-/// velocity in units of V, see [`fixed_point`](crate::fixed_point)).
+/// `C` evaluates S(v) and g(w) and fixes the units; by default the number
+/// type's own ([`DefaultCurves`]): [`CurvesF32`](crate::CurvesF32) for
+/// `f32`, [`TableCurves<16>`](crate::TableCurves) for [`Q16`](crate::Q16)
+/// (`Model<Q16, TableCurves<64>>` for a finer table). Quantities on the
+/// per-sample path are in the model's [`Units`]: SI for `f32`, per-unit for
+/// fixed point (force in units of Fs, velocity in units of V, see
+/// [`fixed_point`](crate::fixed_point)).
 #[derive(Clone, Debug)]
-pub struct Model<T: Scalar = f32> {
+pub struct Model<T: Scalar = f32, C: Curves<T> = <T as DefaultCurves>::Curves> {
     params: Params,
     units: Units,
-    pub(crate) curves: T::Curves,
+    pub(crate) curves: C,
     pub(crate) fc: T,
     pub(crate) fs: T,
     pub(crate) sigma: T,
@@ -31,7 +36,7 @@ pub struct Model<T: Scalar = f32> {
     pub(crate) epsilon: T,
 }
 
-impl<T: Scalar> Model<T> {
+impl<T: Scalar, C: Curves<T>> Model<T, C> {
     /// Validates `params` against the rules of the
     /// [model](crate::model_overview#parameters) and prepares the model.
     ///
@@ -48,13 +53,13 @@ impl<T: Scalar> Model<T> {
         // Everything fallible is done: the curves are built straight into
         // the result.
         Ok(Self {
-            curves: T::Curves::build(&params),
+            curves: C::build(&params),
             fc,
             fs,
             sigma,
             inv_z_max,
             epsilon,
-            units: T::units(&params),
+            units: C::units(&params),
             params,
         })
     }
@@ -81,7 +86,7 @@ impl<T: Scalar> Model<T> {
         self.curves.rebuild(&params);
         (self.fc, self.fs, self.sigma) = (fc, fs, sigma);
         (self.inv_z_max, self.epsilon) = (inv_z_max, epsilon);
-        self.units = T::units(&params);
+        self.units = C::units(&params);
         self.params = params;
         Ok(())
     }
@@ -90,7 +95,7 @@ impl<T: Scalar> Model<T> {
     pub(crate) const fn from_parts(
         params: Params,
         units: Units,
-        curves: T::Curves,
+        curves: C,
         [fc, fs, sigma, inv_z_max, epsilon]: [T; 5],
     ) -> Self {
         Self {
@@ -107,10 +112,10 @@ impl<T: Scalar> Model<T> {
 
     /// Validates `params` and converts Fc, Fs, σ, 1/z_max and ε to model
     /// units; every check of [`new`](Self::new) happens here or in
-    /// `Curves::check`.
+    /// [`Curves::check`].
     fn coefficients(params: &Params) -> Result<[T; 5], ParamError> {
         params.validate()?;
-        let units = T::units(params);
+        let units = C::units(params);
         // A positive parameter must stay positive once scaled.
         let convert = |param: Param, x: f32, positive: bool| {
             T::from_f32(x)
@@ -132,7 +137,7 @@ impl<T: Scalar> Model<T> {
             convert(Param::ZMax, inv_z_max, true)?,
             convert(Param::Epsilon, params.epsilon / units.length, false)?,
         ];
-        T::Curves::check(params)?;
+        C::check(params)?;
         Ok(coefficients)
     }
 
@@ -142,7 +147,7 @@ impl<T: Scalar> Model<T> {
     /// samples and a fixed-point model:
     ///
     /// ```
-    /// use breakaway::{Model, Params, Presliding, Scalar, Units, Q16};
+    /// use breakaway::{Model, Params, Presliding, Units, Q16};
     /// let p = Params { fc: 1.0, fs: 1.5, v_stribeck: 1e-3, delta: 1.0,
     ///                  sigma: 0.0, z_max: 1e-5, epsilon: 0.0 };
     /// assert_eq!(Model::<f32>::new(p).unwrap().units(), Units::SI);

@@ -18,7 +18,7 @@
 //!
 //! with F̂ one of four [`Variant`]s. `Consistent` takes F̂ = S(v_b), the
 //! smallest positive root of v·S(v) = c = −k·z_max/ln w_b, solved by the
-//! number type's curves ([`Curves::consistent_root`]):
+//! model's curves ([`Curves::consistent_root`]):
 //!
 //! - where v·S(v) is monotone — d(v·S)/dv = Fc + (Fs − Fc)·e^(−x)·(1 − δ·x),
 //!   x = (v/V)^δ, is least at x = 1 + 1/δ, so (Fs − Fc)·δ ≤ Fc·e^(1 + 1/δ),
@@ -57,8 +57,9 @@
 // wrap. Integer arithmetic is written with explicit wrapping or checks.
 #![allow(clippy::arithmetic_side_effects)]
 
+use crate::curves::Curves;
 use crate::model::Model;
-use crate::scalar::{Curves, Scalar};
+use crate::scalar::Scalar;
 
 /// Which steady-state level F̂ enters v(w) ([break-away
 /// predictor](crate::model_overview#break-away-predictor)).
@@ -171,12 +172,9 @@ enum RateScale<T> {
 /// The default break-away boundary w_b (the paper's z_0.95).
 pub const DEFAULT_BOUNDARY: f32 = 0.95;
 
-/// The largest number of fixed-point iterations for `Consistent`.
-const MAX_ITERATIONS: usize = 200;
-
 impl<T: Scalar> BreakAwayPredictor<T> {
     /// A predictor for `model` with the break-away boundary `w_b` in (0, 1).
-    pub fn new(model: &Model<T>, w_b: f32) -> Result<Self, PredictError> {
+    pub fn new<C: Curves<T>>(model: &Model<T, C>, w_b: f32) -> Result<Self, PredictError> {
         if !(w_b > 0.0 && w_b < 1.0) {
             return Err(PredictError::InvalidBoundary);
         }
@@ -199,9 +197,9 @@ impl<T: Scalar> BreakAwayPredictor<T> {
     /// The break-away under the force rate `k` (model force units per
     /// second: N/s for `f32`) with the level F̂ of `variant`; v_b and F_ba come
     /// in model units, t_ba in seconds.
-    pub fn predict(
+    pub fn predict<C: Curves<T>>(
         &self,
-        model: &Model<T>,
+        model: &Model<T, C>,
         variant: Variant,
         k: T,
     ) -> Result<BreakAway<T>, PredictError> {
@@ -239,7 +237,11 @@ impl<T: Scalar> BreakAwayPredictor<T> {
 }
 
 /// The velocity v with v·F̂ = c [N·m/s] for the level F̂ of `variant`.
-fn velocity_for<T: Scalar>(model: &Model<T>, variant: Variant, c: T) -> Result<T, PredictError> {
+fn velocity_for<T: Scalar, C: Curves<T>>(
+    model: &Model<T, C>,
+    variant: Variant,
+    c: T,
+) -> Result<T, PredictError> {
     let two = T::ONE + T::ONE;
     let level = match variant {
         Variant::Coulomb => model.fc,
@@ -253,39 +255,6 @@ fn velocity_for<T: Scalar>(model: &Model<T>, variant: Variant, c: T) -> Result<T
         }
     };
     Ok((c / level).saturate())
-}
-
-/// The smallest positive root of v·S(v) = c, and S there, by the
-/// fixed-point iteration (the default of
-/// [`Curves::consistent_root`](crate::Curves::consistent_root), and the
-/// fallback of the Newton solves where v·S(v) is not monotone).
-///
-/// φ(v) = c/S(v) is non-decreasing, and v₀ = c/S(0) = c/Fs lies below every
-/// root, so vₙ₊₁ = φ(vₙ) increases monotonically to the smallest root. The
-/// iteration converges linearly with rate q = φ′; it stops once the Aitken
-/// estimate of the remaining error, Δₙ·q/(1 − q), is below the number
-/// type's tolerance.
-#[inline(never)]
-pub(crate) fn fixed_point_root<T: Scalar, C: Curves<T>>(curves: &C, c: T) -> Option<(T, T)> {
-    let mut v = (c / curves.stribeck(T::ZERO)).saturate();
-    let mut step = T::ZERO;
-    for _ in 0..MAX_ITERATIONS {
-        let next = (c / curves.stribeck(v)).saturate();
-        let delta = (next - v).abs();
-        let tolerance = T::TOLERANCE * next;
-        if delta <= tolerance {
-            return Some((next, curves.stribeck(next)));
-        }
-        if step > T::ZERO && delta < step {
-            let q = delta / step;
-            if delta * q <= tolerance * (T::ONE - q) {
-                return Some((next, curves.stribeck(next)));
-            }
-        }
-        step = delta;
-        v = next;
-    }
-    None
 }
 
 impl BreakAwayPredictor<f32> {
@@ -303,8 +272,8 @@ impl BreakAwayPredictor<f32> {
     /// assert!(phase(0.2).unwrap() < phase(0.8).unwrap());
     /// assert_eq!(phase(1.0), Err(PredictError::InvalidTravel));
     /// ```
-    pub fn phase_velocity(
-        model: &Model<f32>,
+    pub fn phase_velocity<C: Curves<f32>>(
+        model: &Model<f32, C>,
         variant: Variant,
         k: f32,
         w: f32,

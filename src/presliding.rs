@@ -90,10 +90,11 @@
 
 use heapless::Vec;
 
+use crate::curves::Curves;
 pub(crate) use crate::error::SampleError;
 use crate::model::Model;
 use crate::position::Position;
-use crate::scalar::{Curves, Scalar};
+use crate::scalar::Scalar;
 
 /// A turning point: where the motion reversed and the dry friction there.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -204,16 +205,21 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
     /// A NaN or infinite sample is rejected with [`SampleError::Velocity`]
     /// or [`SampleError::Position`] and leaves the state untouched. For finite samples the result is finite and |H| never
     /// exceeds Fs.
-    pub fn update(&mut self, model: &Model<T>, position: P, velocity: T) -> Result<T, SampleError> {
+    pub fn update<C: Curves<T>>(
+        &mut self,
+        model: &Model<T, C>,
+        position: P,
+        velocity: T,
+    ) -> Result<T, SampleError> {
         self.update_at(model, position, velocity, false)
     }
 
     /// [`update`](Self::update) on the model with its stiction removed
     /// (S ≡ Fc, Fs = Fc): the Coulomb part of H for the split level scales
     /// of [`Feedforward`](crate::compensation::Feedforward).
-    pub(crate) fn update_coulomb(
+    pub(crate) fn update_coulomb<C: Curves<T>>(
         &mut self,
-        model: &Model<T>,
+        model: &Model<T, C>,
         position: P,
         velocity: T,
     ) -> Result<T, SampleError> {
@@ -234,9 +240,9 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
     /// cannot overflow). The general path is a call made where nothing else
     /// is live, so that the straight path needs no register saves.
     #[inline(always)]
-    fn update_at(
+    fn update_at<C: Curves<T>>(
         &mut self,
-        model: &Model<T>,
+        model: &Model<T, C>,
         position: P,
         velocity: T,
         coulomb: bool,
@@ -321,7 +327,13 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
     /// without a call: H by [`follow`](Self::follow)'s branch, the stores;
     /// returns F.
     #[inline(never)]
-    fn finish(&mut self, model: &Model<T>, position: P, stribeck: T, viscous: T) -> T {
+    fn finish<C: Curves<T>>(
+        &mut self,
+        model: &Model<T, C>,
+        position: P,
+        stribeck: T,
+        viscous: T,
+    ) -> T {
         self.extremum = position;
         self.dry = self.towards_steady_state(model, self.base, position, stribeck);
         self.force = self.dry + viscous;
@@ -333,9 +345,9 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
     /// `Result<(), _>` comes back from the call in a register, a
     /// `Result<T, _>` through memory.
     #[inline(never)]
-    fn update_general(
+    fn update_general<C: Curves<T>>(
         &mut self,
-        model: &Model<T>,
+        model: &Model<T, C>,
         position: P,
         velocity: T,
         coulomb: bool,
@@ -460,7 +472,13 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
     /// Dry friction H on the current branch at `position`, the extremum of
     /// the branch.
     #[inline(always)]
-    fn follow(&mut self, model: &Model<T>, position: P, velocity: T, coulomb: bool) -> T {
+    fn follow<C: Curves<T>>(
+        &mut self,
+        model: &Model<T, C>,
+        position: P,
+        velocity: T,
+        coulomb: bool,
+    ) -> T {
         let level = if coulomb {
             model.fc
         } else {
@@ -479,9 +497,9 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
     /// H on the branch from `start` towards the steady state d·S(v) at
     /// `position`; once there (w = 1) every stored loop is wiped out.
     #[inline(always)]
-    fn towards_steady_state(
+    fn towards_steady_state<C: Curves<T>>(
         &mut self,
-        model: &Model<T>,
+        model: &Model<T, C>,
         start: TurningPoint<T, P>,
         position: P,
         stribeck: T,
@@ -504,7 +522,7 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
     /// [`follow`](Self::follow) with turning points in memory: closes minor
     /// loops that the motion has passed, then evaluates the current branch.
     #[inline(never)]
-    fn follow_memory(&mut self, model: &Model<T>, position: P, stribeck: T) -> T {
+    fn follow_memory<C: Curves<T>>(&mut self, model: &Model<T, C>, position: P, stribeck: T) -> T {
         loop {
             let len = self.memory.len();
             if len == 0 && self.base_saturated {
@@ -624,8 +642,8 @@ mod tests {
 
     /// The straight path of `update` and `update_general` agree bit for
     /// bit, result and state, sample by sample.
-    fn same<P, T>(
-        model: &Model<T>,
+    fn same<P, T, C: Curves<T>>(
+        model: &Model<T, C>,
         axis: Presliding<P, T, 0>,
         samples: impl Iterator<Item = (P, T)>,
         coulomb: bool,

@@ -1,14 +1,15 @@
 //! The number types the model runs on.
 //!
-//! The friction model is written once, generic over [`Scalar`]. A number type
-//! supplies plain arithmetic through the `core::ops` traits and, through its
-//! associated [`Curves`] type, the two non-polynomial functions of the model:
-//! the [Stribeck curve](crate::model_overview#stribeck-curve) S(v) and the
-//! [presliding](crate::model_overview#presliding) shape g(w) = w·(1 − ln w).
-//! For `f32` these are evaluated with the single-precision kernels of
-//! [`fastmath`](crate::fastmath); the fixed-point type [`Q16`](crate::Q16)
-//! supplies table-based curves and reuses the state machine and the predictor
-//! unchanged.
+//! The friction model is written once, generic over [`Scalar`]: plain
+//! arithmetic through the `core::ops` traits, total (never a panic, never a
+//! wrap), and the conversions at the boundary. What a number type does not
+//! say is how the model's two non-polynomial functions are evaluated, the
+//! [Stribeck curve](crate::model_overview#stribeck-curve) S(v) and the
+//! [presliding](crate::model_overview#presliding) shape g(w) = w·(1 − ln w),
+//! nor in which units: that is the [`Curves`](crate::curves::Curves) a
+//! [`Model`](crate::Model) is built with (for `f32` the single-precision
+//! kernels of [`fastmath`](crate::fastmath), SI units; for
+//! [`Q16`](crate::Q16) tables, per-unit).
 
 // Arithmetic here is on the generic number type `T`, whose operators are
 // total by the `Scalar` contract (IEEE `f32`; saturating `Q16`): no panic, no
@@ -16,8 +17,6 @@
 #![allow(clippy::arithmetic_side_effects)]
 
 use core::ops::{Add, Div, Mul, Neg, Sub};
-
-use crate::params::{ParamError, Params};
 
 /// A number type the friction model can run on.
 ///
@@ -39,10 +38,6 @@ pub trait Scalar:
     const ONE: Self;
     /// The largest finite value.
     const MAX: Self;
-    /// Relative tolerance of iterative solvers (a few units in the last place).
-    const TOLERANCE: Self;
-    /// The curves S(v) and g(w) evaluated in this number type.
-    type Curves: Curves<Self>;
 
     /// Converts a parameter or constant; `None` when it is not representable.
     fn from_f32(x: f32) -> Option<Self>;
@@ -52,14 +47,6 @@ pub trait Scalar:
     fn is_finite(self) -> bool;
     /// Clamps an overflowed result to the largest finite magnitude.
     fn saturate(self) -> Self;
-
-    /// The units in which this number type carries forces, velocities and
-    /// lengths for a parameter set: SI for `f32`; per-unit for fixed point
-    /// (see [`fixed_point`](crate::fixed_point)).
-    #[inline]
-    fn units(_params: &Params) -> Units {
-        Units::SI
-    }
 
     /// |self|.
     #[inline(always)]
@@ -135,83 +122,10 @@ impl Units {
     };
 }
 
-/// The non-polynomial functions of the model for one parameter set.
-pub trait Curves<T>: Sized + Clone {
-    /// Checks that the curves of a validated parameter set can be
-    /// represented in `T`; `Err` names the parameter that cannot.
-    fn check(params: &Params) -> Result<(), ParamError>;
-    /// Builds the curves of a parameter set that passed
-    /// [`check`](Self::check). Infallible, so that the result is written
-    /// where the caller keeps it (a table is not copied through the stack).
-    fn build(params: &Params) -> Self;
-    /// Rebuilds the curves in place for a parameter set that passed
-    /// [`check`](Self::check) (no copy of a table through the stack).
-    fn rebuild(&mut self, params: &Params) {
-        *self = Self::build(params);
-    }
-    /// Stribeck magnitude S(v) = Fc + (Fs − Fc)·exp(−(|v|/V)^δ) at the velocity
-    /// `v` ([Stribeck curve](crate::model_overview#stribeck-curve)), in model
-    /// units (N and m/s for `f32`).
-    fn stribeck(&self, v: T) -> T;
-    /// Presliding shape g(w) = w·(1 − ln w) for `w` in [0, 1]; 0 for `w ≤ 0`,
-    /// 1 for `w ≥ 1` ([presliding](crate::model_overview#presliding)).
-    fn shape(&self, w: T) -> T;
-    /// S(v) as [`stribeck`](Self::stribeck) where it is evaluated without
-    /// a call and `viscous` (σ·v) is [moderate](Scalar::is_moderate),
-    /// `None` elsewhere: the state machine's straight path, which then
-    /// leaves the sample to its general path. A table may skip the test of
-    /// σ·v where |v| inside it bounds σ·v by construction.
-    #[doc(hidden)]
-    #[inline(always)]
-    fn stribeck_fast(&self, v: T, viscous: T) -> Option<T>
-    where
-        T: Scalar,
-    {
-        if viscous.is_moderate() {
-            Some(self.stribeck(v))
-        } else {
-            None
-        }
-    }
-    /// The state machine's test for gross sliding and g in one (a table
-    /// can test the range of `w` once for both): `Some(Some(g(w)))` for
-    /// `w` < 1 (as [`shape`](Self::shape)), `Some(None)` for `w` ≥ 1 and
-    /// NaN, `None` where g is not evaluated without a call (the straight
-    /// path then leaves the sample to the general one).
-    #[doc(hidden)]
-    #[inline(always)]
-    fn shape_fast(&self, w: T) -> Option<Option<T>>
-    where
-        T: Scalar,
-    {
-        if w < T::ONE {
-            Some(Some(self.shape(w)))
-        } else {
-            Some(None)
-        }
-    }
-    /// The smallest positive root v of v·S(v) = `c` for `c` ≥ 0 (the
-    /// break-away velocity of [`Variant::Consistent`](crate::Variant)), and
-    /// S(v); `None` when the solve does not converge.
-    ///
-    /// The default is the fixed-point iteration v ← c/S(v) from c/S(0)
-    /// ([`predictor`](crate::predictor)); `f32` and [`Q16`](crate::Q16)
-    /// replace it, where v·S(v) is monotone, by Newton's iteration on their
-    /// tables (with this one as the fallback).
-    fn consistent_root(&self, c: T) -> Option<(T, T)>
-    where
-        T: Scalar,
-    {
-        crate::predictor::fixed_point_root(self, c)
-    }
-}
-
 impl Scalar for f32 {
     const ZERO: Self = 0.0;
     const ONE: Self = 1.0;
     const MAX: Self = f32::MAX;
-    const TOLERANCE: Self = 4.0 * f32::EPSILON;
-    type Curves = crate::curves::CurvesF32;
 
     #[inline(always)]
     fn from_f32(x: f32) -> Option<Self> {

@@ -78,7 +78,7 @@ fn magnitude_scale_reports_the_direction() {
 /// writes for the same force, to the step, and reports the same force.
 #[test]
 fn fixed_point_duty_equals_the_f32_duty() {
-    use breakaway::{Scalar, Units, Q16};
+    use breakaway::{Units, Q16};
     let units = Units {
         force: 1.5,
         velocity: 1e-3,

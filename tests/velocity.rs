@@ -6,7 +6,7 @@
 //! Q16 against `f32`, and rejected settings and samples.
 
 use breakaway::compensation::{ConfigError, Setting, VelocityConfig, VelocityEstimator};
-use breakaway::{Model, SampleError, Scalar, Q16};
+use breakaway::{Model, SampleError, Q16};
 
 mod support;
 use support::FIG5;

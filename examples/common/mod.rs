@@ -14,11 +14,11 @@ mod support;
 #[allow(unused_imports)]
 pub use support::{Strokes, FIG5, LONG_RUN};
 
-use breakaway::{Model, Params, Presliding, Scalar};
+use breakaway::{DefaultCurves, Model, Params, Presliding};
 
 /// The model of `params`, or the end of the run.
 #[allow(dead_code)]
-pub fn model<T: Scalar>(params: Params) -> Model<T> {
+pub fn model<T: DefaultCurves>(params: Params) -> Model<T> {
     Model::new(params).unwrap_or_else(|_| exit_failure("invalid parameters"))
 }
 

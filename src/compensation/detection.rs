@@ -94,6 +94,7 @@
 
 use heapless::Deque;
 
+use crate::curves::Curves;
 use crate::fixed_point::Q16;
 use crate::model::Model;
 use crate::predictor::{BreakAway, BreakAwayPredictor, Variant};
@@ -209,7 +210,7 @@ impl Accumulate for f32 {
 /// Sums of raw Q16.16 values in `i64`: exact additions, checked. The one
 /// division, at a break-away, is done in `i128` (|num·scale| < 2⁹⁴) and
 /// rounded to nearest.
-impl<const K: usize> Accumulate for Q16<K> {
+impl Accumulate for Q16 {
     const RESOLUTION: Self = Self::from_bits(1);
     const MAX_TICKS: u32 = u32::MAX;
     type Sum = i64;
@@ -346,7 +347,7 @@ impl<const N: usize, T: Accumulate> BreakAwayDetector<N, T> {
     ///
     /// ```
     /// use breakaway::compensation::{BreakAwayDetector, DetectorConfig};
-    /// use breakaway::{Model, Params, Scalar, Variant, Q16};
+    /// use breakaway::{Model, Params, Variant, Q16};
     /// let params = Params { fc: 1.0, fs: 1.5, v_stribeck: 1e-3, delta: 1.0,
     ///                       sigma: 0.0, z_max: 1e-5, epsilon: 0.0 };
     /// let model = Model::<Q16>::new(params)?;
@@ -366,9 +367,9 @@ impl<const N: usize, T: Accumulate> BreakAwayDetector<N, T> {
     /// assert!((m.time.to_f32() - 0.7).abs() < 1e-4); // s
     /// # Ok::<(), breakaway::ParamError>(())
     /// ```
-    pub fn new(
+    pub fn new<C: Curves<T>>(
         config: DetectorConfig,
-        model: &Model<T>,
+        model: &Model<T, C>,
         variant: Variant,
         w_b: f32,
     ) -> Result<Self, ConfigError> {
@@ -418,9 +419,9 @@ impl<const N: usize, T: Accumulate> BreakAwayDetector<N, T> {
     /// measurement when this sample is a break-away whose rate, force and
     /// time are within range. A non-finite input is rejected and leaves the
     /// state unchanged.
-    pub fn update(
+    pub fn update<C: Curves<T>>(
         &mut self,
-        model: &Model<T>,
+        model: &Model<T, C>,
         command: T,
         velocity: T,
     ) -> Result<Option<Measurement<T>>, SampleError> {
@@ -456,7 +457,7 @@ impl<const N: usize, T: Accumulate> BreakAwayDetector<N, T> {
 
     /// The measurement of a break-away at |u| = `force` [N], stored; `None`
     /// when the rise is too short, slower than min_rate or out of range.
-    fn measure(&mut self, model: &Model<T>, force: T) -> Option<Measurement<T>> {
+    fn measure<C: Curves<T>>(&mut self, model: &Model<T, C>, force: T) -> Option<Measurement<T>> {
         let rate = self.fit.slope(self.sample_rate)?;
         if rate < self.min_rate {
             return None;

@@ -33,6 +33,7 @@
 // wrap.
 #![allow(clippy::arithmetic_side_effects)]
 
+use crate::curves::Curves;
 use crate::model::Model;
 use crate::position::Position;
 use crate::presliding::{Presliding, SampleError};
@@ -124,7 +125,7 @@ impl<P: Position<T>, T: Scalar, const N: usize> Feedforward<P, T, N> {
     ///
     /// ```
     /// use breakaway::compensation::{Feedforward, FeedforwardConfig};
-    /// use breakaway::{Model, Params, Scalar, Q16};
+    /// use breakaway::{Model, Params, Q16};
     /// let model = Model::<Q16>::new(Params { fc: 1.0, fs: 1.5, v_stribeck: 1e-3,
     ///     delta: 1.0, sigma: 0.0, z_max: 1e-5, epsilon: 0.0 })?;
     /// let scale = model.position_scale::<i32>(1e-8).unwrap(); // 10 nm counts
@@ -174,7 +175,12 @@ impl<P: Position<T>, T: Scalar, const N: usize> Feedforward<P, T, N> {
     /// [m/s]; model units for fixed point) and returns the compensation
     /// force u_ff [N] (model units). A non-finite sample is rejected and
     /// leaves the state unchanged.
-    pub fn update(&mut self, model: &Model<T>, x_ref: P, v_ref: T) -> Result<T, SampleError> {
+    pub fn update<C: Curves<T>>(
+        &mut self,
+        model: &Model<T, C>,
+        x_ref: P,
+        v_ref: T,
+    ) -> Result<T, SampleError> {
         let v = if v_ref.abs() <= self.deadband {
             T::ZERO
         } else {

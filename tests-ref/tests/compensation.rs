@@ -418,12 +418,16 @@ fn break_away_samples(judge: &reference::Model, k: f64, period: f64) -> Vec<(f32
 
 /// The first break-away of a detector fed `samples` (u [N], v [m/s]),
 /// converted to model units by `force` and `velocity`.
-fn first_break_away<T: breakaway::compensation::Accumulate, const N: usize>(
+fn first_break_away<T, C, const N: usize>(
     detector: &mut BreakAwayDetector<N, T>,
-    model: &Model<T>,
+    model: &Model<T, C>,
     samples: &[(f32, f32)],
     convert: impl Fn(f32, f32) -> (T, T),
-) -> Option<breakaway::compensation::Measurement<T>> {
+) -> Option<breakaway::compensation::Measurement<T>>
+where
+    T: breakaway::compensation::Accumulate,
+    C: breakaway::Curves<T>,
+{
     samples.iter().find_map(|&(u, v)| {
         let (u, v) = convert(u, v);
         detector.update(model, u, v).unwrap()
@@ -445,7 +449,6 @@ fn assert_q16_matches_f32(
     b: &breakaway::compensation::Measurement<breakaway::Q16>,
     k: f64,
 ) -> [f64; 5] {
-    use breakaway::Scalar;
     const LSB: f64 = 1.0 / 65536.0;
     let fs = FIG5.fs as f64;
     let (rate, force, time) = (
@@ -476,7 +479,7 @@ fn assert_q16_matches_f32(
 /// ([`assert_q16_matches_f32`]).
 #[test]
 fn fixed_detector_matches_the_f32_detector_on_the_reference_dynamics() {
-    use breakaway::{Scalar, Q16};
+    use breakaway::Q16;
     let float_model = Model::<f32>::new(FIG5).unwrap();
     let fixed_model = Model::<Q16>::new(FIG5).unwrap();
     let judge = reference_model(&FIG5);
@@ -532,7 +535,7 @@ fn fixed_detector_matches_the_f32_detector_on_the_reference_dynamics() {
 /// change of state.
 #[test]
 fn detector_range_and_rejected_samples() {
-    use breakaway::{Scalar, Q16};
+    use breakaway::Q16;
     const T: f32 = 1e-4;
     let float_model = Model::<f32>::new(FIG5).unwrap();
     let fixed_model = Model::<Q16>::new(FIG5).unwrap();
@@ -624,7 +627,7 @@ fn detector_range_and_rejected_samples() {
 /// ([`assert_q16_matches_f32`]), the command rounded once or twice.
 #[test]
 fn fixed_detector_admits_two_command_steps_per_sample() {
-    use breakaway::{Scalar, Q16};
+    use breakaway::Q16;
     let fs = FIG5.fs as f64;
     let step = fs / 65536.0; // N
     let float_model = Model::<f32>::new(FIG5).unwrap();
@@ -760,7 +763,7 @@ fn fixed_detector_settings() {
 /// both number types, within the fixed-point bound 1e-3·Fs.
 #[test]
 fn fixed_feedforward_follows_the_reference_presliding_model() {
-    use breakaway::{Scalar, Q16};
+    use breakaway::Q16;
     let p = VISCOUS;
     let model = Model::<Q16>::new(p).unwrap();
     let scale = model.position_scale::<i32>(1e-8).unwrap();
@@ -903,7 +906,7 @@ fn stiction_drift_run(
     seconds: f64,
 ) -> ([f32; 2], [f32; 2], f32) {
     use breakaway::compensation::{StictionAdaptation, StictionConfig};
-    use breakaway::{Scalar, Q16};
+    use breakaway::Q16;
     const T: f64 = 1e-3;
     let model = Model::<f32>::new(FIG5).unwrap();
     let fixed_model = Model::<Q16>::new(FIG5).unwrap();
@@ -1090,7 +1093,7 @@ fn stiction_window_fit_is_the_least_squares_step() {
 #[test]
 fn stiction_adaptation_is_bounded_and_rejects_bad_samples() {
     use breakaway::compensation::{StictionAdaptation, StictionConfig};
-    use breakaway::{Scalar, Q16};
+    use breakaway::Q16;
     let config = StictionConfig {
         rate: 10.0,
         reversal_gain: 1.0,

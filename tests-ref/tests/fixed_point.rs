@@ -16,16 +16,14 @@ use proptest::prelude::*;
 mod common;
 use common::{check, params, reference_model, samples, trajectory, Segment, Worst, FIG5};
 
-type Fx = Q16<16>;
-
 /// Worst |F − F_ref|/Fs over the samples of `segments` (in steps of
 /// z_max/1000) read by an encoder of `per_z_max` counts per z_max.
 fn friction_error(p: &Params, segments: &[Segment], per_z_max: f64) -> f64 {
-    let model = Model::<Fx>::new(*p).expect("parameters within the documented range");
+    let model = Model::<Q16>::new(*p).expect("parameters within the documented range");
     let judge_model = reference_model(p);
     let count = (p.z_max as f64 / per_z_max) as f32;
     let scale = model.position_scale::<i64>(count).expect("scale in range");
-    let mut lib = Presliding::<i64, Fx>::new(0, scale).unwrap();
+    let mut lib = Presliding::<i64, Q16>::new(0, scale).unwrap();
     let mut judge = reference::Presliding::new(0.0);
     let mut worst = 0.0f64;
     for (at, v) in samples(segments) {
@@ -93,7 +91,7 @@ fn fixed_break_away_matches_reference_within_1e_3() {
         prop_oneof![Just(0.95f32), 0.5f32..0.99],
     );
     check(300, &cases, |(p, log_k, w_b)| {
-        let model = Model::<Fx>::new(p).unwrap();
+        let model = Model::<Q16>::new(p).unwrap();
         let judge_model = reference_model(&p);
         let predictor = BreakAwayPredictor::new(&model, w_b).unwrap();
         // Documented range: v_b ≥ 1e-3·V, where the Q16.16 velocity
@@ -101,7 +99,7 @@ fn fixed_break_away_matches_reference_within_1e_3() {
         // even for δ = 0.5 (infinite slope of S at v = 0).
         let travel_per_rate = p.z_max / ((w_b as f64).ln().abs() as f32 * p.v_stribeck);
         let k_min = 1e-3 / travel_per_rate;
-        let k_q = Fx::from_f32(10f32.powf(log_k).max(k_min)).unwrap();
+        let k_q = Q16::from_f32(10f32.powf(log_k).max(k_min)).unwrap();
         let k = k_q.to_f32() as f64 * p.fs as f64;
         for variant in Variant::ALL {
             let judge_variant = reference::Variant::parse(variant.name()).unwrap();
@@ -129,7 +127,7 @@ fn construction_rejects_what_does_not_fit_naming_the_parameter() {
         ..FIG5
     };
     assert_eq!(
-        Model::<Fx>::new(p).unwrap_err(),
+        Model::<Q16>::new(p).unwrap_err(),
         ParamError::OutOfRange(Param::Sigma)
     );
     // ε = 200·z_max: ε/z_max·256 = 51200 does not fit.
@@ -138,17 +136,17 @@ fn construction_rejects_what_does_not_fit_naming_the_parameter() {
         ..FIG5
     };
     assert_eq!(
-        Model::<Fx>::new(p).unwrap_err(),
+        Model::<Q16>::new(p).unwrap_err(),
         ParamError::OutOfRange(Param::Epsilon)
     );
     // Fc/Fs = 1e-6 rounds to 0.
     let p = Params { fc: 1e-6, ..FIG5 };
     assert_eq!(
-        Model::<Fx>::new(p).unwrap_err(),
+        Model::<Q16>::new(p).unwrap_err(),
         ParamError::OutOfRange(Param::Fc)
     );
     // Encoder counts coarser than 128·z_max or finer than z_max/2³⁴.
-    let m = Model::<Fx>::new(FIG5).unwrap();
+    let m = Model::<Q16>::new(FIG5).unwrap();
     assert!(m.position_scale::<i32>(1.0).is_none());
     assert!(m.position_scale::<i32>(1e-16).is_none());
     assert!(m.position_scale::<i32>(1e-8).is_some());
@@ -166,15 +164,15 @@ fn set_params_in_place_equals_new_and_rejects_without_change() {
         ..FIG5
     };
     assert_eq!(
-        format!("{:?}", Model::<Fx>::UNIT_COULOMB),
-        format!("{:?}", Model::<Fx>::new(unit).unwrap())
+        format!("{:?}", Model::<Q16>::UNIT_COULOMB),
+        format!("{:?}", Model::<Q16>::new(unit).unwrap())
     );
     check(50, &params(0.5..2.0), |p| {
-        let mut model = Model::<Fx>::UNIT_COULOMB;
+        let mut model = Model::<Q16>::UNIT_COULOMB;
         model.set_params(p).unwrap();
         prop_assert_eq!(
             format!("{model:?}"),
-            format!("{:?}", Model::<Fx>::new(p).unwrap())
+            format!("{:?}", Model::<Q16>::new(p).unwrap())
         );
         let before = format!("{model:?}");
         let bad = Params {
@@ -194,15 +192,15 @@ fn extreme_samples_saturate_and_never_panic() {
         sigma: 3000.0,
         ..FIG5
     };
-    let model = Model::<Fx>::new(p).unwrap();
+    let model = Model::<Q16>::new(p).unwrap();
     let scale = model.position_scale::<i32>(1e-8).unwrap();
-    let mut axis = Presliding::<i32, Fx>::new(0, scale).unwrap();
+    let mut axis = Presliding::<i32, Q16>::new(0, scale).unwrap();
     let extremes = [i32::MIN, i32::MAX, 0, -1, 1, i32::MAX, i32::MIN + 1];
     let speeds = [
-        Fx::from_bits(i32::MIN),
-        Fx::from_bits(i32::MAX),
-        Fx::ZERO,
-        Fx::from_bits(1),
+        Q16::from_bits(i32::MIN),
+        Q16::from_bits(i32::MAX),
+        Q16::ZERO,
+        Q16::from_bits(1),
     ];
     for &x in &extremes {
         for &v in &speeds {
@@ -217,18 +215,18 @@ fn extreme_samples_saturate_and_never_panic() {
         }
     }
     // Saturated velocity: S = Fc/Fs, viscous σ·v saturates at +32768·Fs.
-    let mut axis = Presliding::<i32, Fx>::new(0, scale).unwrap();
-    let f = axis.update(&model, 2000, Fx::from_bits(i32::MAX)).unwrap();
-    assert_eq!(f, Fx::from_bits(i32::MAX));
+    let mut axis = Presliding::<i32, Q16>::new(0, scale).unwrap();
+    let f = axis.update(&model, 2000, Q16::from_bits(i32::MAX)).unwrap();
+    assert_eq!(f, Q16::from_bits(i32::MAX));
     assert!((axis.dry().to_f32() - 1.0 / 1.5).abs() < 1e-4);
     // Predictor extremes: huge and tiny k give finite, saturated results.
     let predictor = BreakAwayPredictor::new(&model, 0.95).unwrap();
-    for k in [Fx::from_bits(1), Fx::from_bits(i32::MAX)] {
+    for k in [Q16::from_bits(1), Q16::from_bits(i32::MAX)] {
         for variant in Variant::ALL {
             let ba = predictor.predict(&model, variant, k).unwrap();
             assert!(ba.f_ba.to_f32() >= 1.0 / 1.5 - 1e-3);
         }
     }
-    assert!(predictor.predict(&model, Variant::Mean, Fx::ZERO).is_err());
-    assert!(predictor.predict(&model, Variant::Mean, -Fx::ONE).is_err());
+    assert!(predictor.predict(&model, Variant::Mean, Q16::ZERO).is_err());
+    assert!(predictor.predict(&model, Variant::Mean, -Q16::ONE).is_err());
 }

@@ -2,7 +2,7 @@
 //! reference after 10⁸ samples of random motion, and after 10³ m of travel
 //! followed by a 2 µm reversal.
 
-use breakaway::{BreakAwayPredictor, Model, Params, Presliding, Scalar, Variant, Q16};
+use breakaway::{BreakAwayPredictor, Model, Params, Presliding, Variant, Q16};
 use breakaway_reference as reference;
 
 mod common;

@@ -227,16 +227,16 @@ pub fn check_targets() -> Result<(), String> {
 /// the S table). The layout has no pointers and no `usize`, so the host's
 /// size is the target's.
 fn print_model_sizes() {
-    use breakaway::{Model, Q16};
+    use breakaway::{Model, TableCurves, Q16};
     use std::mem::size_of;
-    println!("Model<Q16<K>> in RAM (S table 31·K cells of 2 bytes, in the model); the g table is shared, in flash:");
+    println!("Model<Q16, TableCurves<K>> in RAM (S table 31·K cells of 2 bytes, in the model); the g table is shared, in flash:");
     println!("{:>5} {:>10}", "K", "RAM bytes");
     for (k, bytes) in [
-        (4, size_of::<Model<Q16<4>>>()),
-        (8, size_of::<Model<Q16<8>>>()),
-        (16, size_of::<Model<Q16<16>>>()),
-        (32, size_of::<Model<Q16<32>>>()),
-        (64, size_of::<Model<Q16<64>>>()),
+        (4, size_of::<Model<Q16, TableCurves<4>>>()),
+        (8, size_of::<Model<Q16, TableCurves<8>>>()),
+        (16, size_of::<Model<Q16, TableCurves<16>>>()),
+        (32, size_of::<Model<Q16, TableCurves<32>>>()),
+        (64, size_of::<Model<Q16, TableCurves<64>>>()),
     ] {
         println!("{k:>5} {bytes:>10}");
     }
