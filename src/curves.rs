@@ -738,6 +738,17 @@ mod tests {
         }
     }
 
+    /// The models of [`params`] for δ from 0.1 to 8 in steps of the factor
+    /// `ratio`: (δ, parameters, curves).
+    fn models(ratio: f32) -> impl Iterator<Item = (f32, Params, CurvesF32)> {
+        core::iter::successors(Some(0.1f32), move |delta| Some(delta * ratio))
+            .take_while(|&delta| delta < 8.0)
+            .map(|delta| {
+                let p = params(delta);
+                (delta, p, CurvesF32::build(&p))
+            })
+    }
+
     fn stribeck_f64(p: &Params, v: f64) -> f64 {
         let (fc, fs) = (f64::from(p.fc), f64::from(p.fs));
         fc + (fs - fc) * (-(v.abs() / f64::from(p.v_stribeck)).powf(f64::from(p.delta))).exp()
@@ -746,10 +757,7 @@ mod tests {
     #[test]
     fn stribeck_table_against_f64_for_every_delta() {
         let mut worst = (0.0f64, 0.0f32, 0.0f32);
-        let mut delta = 0.1f32;
-        while delta < 8.0 {
-            let p = params(delta);
-            let curves = CurvesF32::build(&p);
+        for (delta, p, curves) in models(1.07) {
             let mut worst_here = 0.0f64;
             // u from 1e-30 to 1e9, 4000 points per decade, and 0.
             let mut log_u = -30.0f64;
@@ -768,7 +776,6 @@ mod tests {
             if worst_here > worst.0 {
                 worst = (worst_here, delta, 0.0);
             }
-            delta *= 1.07;
         }
         println!(
             "stribeck table: worst error {:.3e}·(Fs − Fc) at δ = {}",
@@ -785,10 +792,7 @@ mod tests {
     #[test]
     fn stribeck_slope_against_f64() {
         let mut worst = (0.0f64, 0.0f32, 0.0f32);
-        let mut delta = 0.1f32;
-        while delta < 8.0 {
-            let p = params(delta);
-            let curves = CurvesF32::build(&p);
+        for (delta, p, curves) in models(1.13) {
             let mut log_u = -20.0f64;
             while log_u < 4.0 {
                 let u = 10f64.powf(log_u);
@@ -806,7 +810,6 @@ mod tests {
                 }
                 log_u += 1.0 / 500.0;
             }
-            delta *= 1.13;
         }
         println!(
             "stribeck slope: worst error {:.3e} (u·|ΔS′|/((Fs − Fc)·max(δ, 1))) at δ = {}, u = {}",

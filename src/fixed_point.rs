@@ -113,7 +113,7 @@ use fixed::types::I16F16;
 use crate::curves::{fixed_point_root, Curves, DefaultCurves};
 use crate::model::Model;
 use crate::params::{ParamError, Params};
-use crate::position::Position;
+use crate::position::{counts_not_behind, Count, Position};
 use crate::scalar::{Scalar, Units};
 
 /// A Q16.16 fixed-point number with saturating arithmetic (range ±32768,
@@ -202,6 +202,14 @@ fn mul_wide(a: i32, b: i32) -> i64 {
         >> 16
 }
 
+/// x = x_h·2¹⁶ + x_l as (x_h, x_l): the signed high half and the unsigned
+/// low 16 bits, the operands of the ARMv6-M products below.
+#[inline(always)]
+#[cfg_attr(not(any(test, breakaway_armv6m)), allow(dead_code))]
+fn halves(x: i32) -> (i32, i32) {
+    (x >> 16, x & 0xffff)
+}
+
 /// (a·b + 2¹⁵) >> 16 from four 32-bit products, for ARMv6-M, which has no
 /// 32 × 32 → 64 multiply (the 64-bit product would be a library call).
 /// With a = a_h·2¹⁶ + a_l (a_l unsigned 16 bits), likewise b, the result is
@@ -212,8 +220,7 @@ fn mul_wide(a: i32, b: i32) -> i64 {
 #[inline(always)]
 #[cfg_attr(not(test), allow(dead_code))]
 fn mul_split(a: i32, b: i32) -> i64 {
-    let (ah, al) = (a >> 16, a & 0xffff);
-    let (bh, bl) = (b >> 16, b & 0xffff);
+    let ((ah, al), (bh, bl)) = (halves(a), halves(b));
     let high = i64::from(ah.wrapping_mul(bh)) << 16;
     let middle = i64::from(ah.wrapping_mul(bl)).wrapping_add(i64::from(al.wrapping_mul(bh)));
     let low = i64::from((al as u32).wrapping_mul(bl as u32).wrapping_add(1 << 15) >> 16);
@@ -228,8 +235,7 @@ fn mul_split(a: i32, b: i32) -> i64 {
 #[inline(always)]
 #[cfg_attr(not(breakaway_armv6m), allow(dead_code))]
 fn mul_split_in_range(a: i32, b: i32) -> i32 {
-    let (ah, al) = (a >> 16, a & 0xffff);
-    let (bh, bl) = (b >> 16, b & 0xffff);
+    let ((ah, al), (bh, bl)) = (halves(a), halves(b));
     let low = ((al as u32).wrapping_mul(bl as u32).wrapping_add(1 << 15) >> 16) as i32;
     (ah.wrapping_mul(bh) << 16)
         .wrapping_add(ah.wrapping_mul(bl))
@@ -252,8 +258,7 @@ fn mul_split_in_range(a: i32, b: i32) -> i32 {
 #[inline(always)]
 #[cfg_attr(not(breakaway_armv6m), allow(dead_code))]
 fn mul_split_saturated(a: i32, b: i32) -> i32 {
-    let (ah, al) = (a >> 16, a & 0xffff);
-    let (bh, bl) = (b >> 16, b & 0xffff);
+    let ((ah, al), (bh, bl)) = (halves(a), halves(b));
     if ah == 0 {
         let low = ((al as u32).wrapping_mul(bl as u32).wrapping_add(1 << 15) >> 16) as i32;
         return al.wrapping_mul(bh).wrapping_add(low);
@@ -286,8 +291,7 @@ fn mul_split_saturated(a: i32, b: i32) -> i32 {
 #[inline(always)]
 #[cfg_attr(not(breakaway_armv6m), allow(dead_code))]
 fn mul_exact_split(a: i32, b: i32) -> i64 {
-    let (ah, al) = (a >> 16, a & 0xffff);
-    let (bh, bl) = (b >> 16, b & 0xffff);
+    let ((ah, al), (bh, bl)) = (halves(a), halves(b));
     let high = i64::from(ah.wrapping_mul(bh)) << 32;
     let middle = i64::from(ah.wrapping_mul(bl)).wrapping_add(i64::from(al.wrapping_mul(bh))) << 16;
     let low = i64::from((al as u32).wrapping_mul(bl as u32));
@@ -647,8 +651,7 @@ fn mul_high_rounded(a: i32, b: i32) -> i32 {
 #[inline(always)]
 #[cfg_attr(not(breakaway_armv6m), allow(dead_code))]
 fn mul_high_rounded_split(a: i32, b: i32) -> i32 {
-    let (ah, al) = (a >> 16, a & 0xffff);
-    let (bh, bl) = (b >> 16, b & 0xffff);
+    let ((ah, al), (bh, bl)) = (halves(a), halves(b));
     let (m1, m2) = (ah.wrapping_mul(bl), al.wrapping_mul(bh));
     let x = (al as u32).wrapping_mul(bl as u32);
     let low = (m1 & 0xffff)
@@ -688,52 +691,36 @@ fn shift_round(hi: i32, lo: u32, s: u32) -> i32 {
     }
 }
 
-/// Encoder counts: the 32-bit wrapping difference times the
-/// [`CountScale`], in 64 bits.
-impl Position<Q16> for i32 {
-    type Scale = CountScale;
-    #[inline(always)]
-    fn is_valid(self) -> bool {
-        true
-    }
-    fn scale(units: f32) -> Option<CountScale> {
-        CountScale::new(units)
-    }
-    fn is_valid_scale(_: CountScale) -> bool {
-        true
-    }
-    #[inline(always)]
-    fn travel_from(self, origin: Self, scale: CountScale) -> Q16 {
-        scale.apply(self.wrapping_sub(origin))
-    }
-    #[inline(always)]
-    fn not_behind(self, origin: Self, direction: i8) -> bool {
-        crate::position::counts_not_behind(self.wrapping_sub(origin), direction)
-    }
+/// `Position<Q16>` for the encoder count types (`i32`, and `i64` on its
+/// low 32 bits as for `f32`): the 32-bit wrapping difference
+/// ([`Count::difference`]) times the [`CountScale`], in 64 bits.
+macro_rules! position_counts {
+    ($($ty:ty),*) => {$(
+        impl Position<Q16> for $ty {
+            type Scale = CountScale;
+            #[inline(always)]
+            fn is_valid(self) -> bool {
+                true
+            }
+            fn scale(units: f32) -> Option<CountScale> {
+                CountScale::new(units)
+            }
+            fn is_valid_scale(_: CountScale) -> bool {
+                true
+            }
+            #[inline(always)]
+            fn travel_from(self, origin: Self, scale: CountScale) -> Q16 {
+                scale.apply(self.difference(origin))
+            }
+            #[inline(always)]
+            fn not_behind(self, origin: Self, direction: i8) -> bool {
+                counts_not_behind(self.difference(origin), direction)
+            }
+        }
+    )*};
 }
 
-/// As for `i32`, on the low 32 bits (see the `f32` implementation).
-impl Position<Q16> for i64 {
-    type Scale = CountScale;
-    #[inline(always)]
-    fn is_valid(self) -> bool {
-        true
-    }
-    fn scale(units: f32) -> Option<CountScale> {
-        CountScale::new(units)
-    }
-    fn is_valid_scale(_: CountScale) -> bool {
-        true
-    }
-    #[inline(always)]
-    fn travel_from(self, origin: Self, scale: CountScale) -> Q16 {
-        scale.apply((self as i32).wrapping_sub(origin as i32))
-    }
-    #[inline(always)]
-    fn not_behind(self, origin: Self, direction: i8) -> bool {
-        crate::position::counts_not_behind((self as i32).wrapping_sub(origin as i32), direction)
-    }
-}
+position_counts!(i32, i64);
 
 /// Octaves of the Q16.16 raw value covered by the Stribeck table (raw
 /// values up to 2³¹: velocities up to 32768·V).
@@ -1057,51 +1044,58 @@ mod tests {
         i32::MAX,
     ];
 
+    /// Runs `check` on every pair of [`EXTREME_FACTORS`], then on `count`
+    /// random pairs from `seed`: the second factor a random word shifted
+    /// right by 0 to 31 bits (any magnitude), the first one likewise or,
+    /// when `whole_first`, a whole random word.
+    fn factor_pairs(seed: u64, count: usize, whole_first: bool, mut check: impl FnMut(i32, i32)) {
+        for &a in &EXTREME_FACTORS {
+            for &b in &EXTREME_FACTORS {
+                check(a, b);
+            }
+        }
+        let mut bits = xorshift(seed);
+        let mut next = || bits() as i32;
+        for _ in 0..count {
+            let a = if whole_first {
+                next()
+            } else {
+                next() >> (next() & 31)
+            };
+            check(a, next() >> (next() & 31));
+        }
+    }
+
     /// The ARMv6-M multiply equals the 64-bit one on random and extreme
     /// operands (it only runs on the M0; here it is checked on the host).
     #[test]
     fn split_multiply_matches_wide_multiply() {
-        let mut bits = xorshift(0x2545_f491_4f6c_dd1d);
-        let mut next = || bits() as i32;
-        let extremes = EXTREME_FACTORS;
-        for &a in &extremes {
-            for &b in &extremes {
-                assert_eq!(mul_split(a, b), mul_wide(a, b), "{a} × {b}");
-            }
-        }
-        for _ in 0..1_000_000 {
-            let (a, b) = (next(), next() >> (next() & 31));
+        factor_pairs(0x2545_f491_4f6c_dd1d, 1_000_000, true, |a, b| {
             assert_eq!(mul_split(a, b), mul_wide(a, b), "{a} × {b}");
-        }
+        });
     }
 
     /// The ARMv6-M saturating product in 32-bit arithmetic equals the
-    /// 64-bit one, saturated, on random and extreme operands.
+    /// 64-bit one, saturated, on random and extreme operands, and on its
+    /// fast path's domain (0 ≤ a < 2¹⁶) against every kind of b.
     #[test]
     fn split_saturated_multiply_matches_wide_multiply() {
-        let mut bits = xorshift(0x5851_f42d_4c95_7f2d);
-        let mut next = || bits() as i32;
-        let extremes = EXTREME_FACTORS;
-        let want = |a: i32, b: i32| saturate_i32(mul_wide(a, b));
-        for &a in &extremes {
-            for &b in &extremes {
-                assert_eq!(mul_split_saturated(a, b), want(a, b), "{a} × {b}");
-            }
-        }
-        for _ in 0..4_000_000 {
-            let (a, b) = (next() >> (next() & 31), next() >> (next() & 31));
-            assert_eq!(mul_split_saturated(a, b), want(a, b), "{a} × {b}");
-        }
-        // The fast path (0 ≤ a < 2¹⁶) against every kind of b.
-        for &b in &extremes {
+        let check = |a: i32, b: i32| {
+            assert_eq!(
+                mul_split_saturated(a, b),
+                saturate_i32(mul_wide(a, b)),
+                "{a} × {b}"
+            );
+        };
+        factor_pairs(0x5851_f42d_4c95_7f2d, 4_000_000, false, check);
+        for &b in &EXTREME_FACTORS {
             for a in [0, 1, 32767, 32768, 65534, 65535] {
-                assert_eq!(mul_split_saturated(a, b), want(a, b), "{a} × {b}");
+                check(a, b);
             }
         }
-        for _ in 0..4_000_000 {
-            let (a, b) = (next() & 0xffff, next() >> (next() & 31));
-            assert_eq!(mul_split_saturated(a, b), want(a, b), "{a} × {b}");
-        }
+        factor_pairs(0x2f6b_3c1d_8e4a_9b57, 4_000_000, false, |a, b| {
+            check(a & 0xffff, b);
+        });
     }
 
     /// The ARMv6-M product in wrapping 32-bit arithmetic equals the
@@ -1109,11 +1103,8 @@ mod tests {
     /// path's value) everywhere, on random and extreme operands.
     #[test]
     fn split_in_range_multiply_matches_wide_multiply() {
-        let mut bits = xorshift(0x1405_7b7e_f767_814f);
-        let mut next = || bits() as i32;
-        let extremes = EXTREME_FACTORS;
         let mut checked = 0u32;
-        let mut check = |a: i32, b: i32| {
+        factor_pairs(0x1405_7b7e_f767_814f, 4_000_000, false, |a, b| {
             let wide = mul_wide(a, b);
             assert_eq!(mul_split_in_range(a, b), wide as i32, "{a} × {b}");
             assert_eq!(mul_split(a, b), wide, "{a} × {b}");
@@ -1121,59 +1112,26 @@ mod tests {
                 assert_eq!(mul_split_in_range(a, b), want, "{a} × {b}");
                 checked += 1;
             }
-        };
-        for &a in &extremes {
-            for &b in &extremes {
-                check(a, b);
-            }
-        }
-        for _ in 0..4_000_000 {
-            check(next() >> (next() & 31), next() >> (next() & 31));
-        }
+        });
         assert!(checked > 2_000_000, "{checked}");
     }
 
     /// The ARMv6-M rounded high word of a product equals the 64-bit one.
     #[test]
     fn split_high_word_matches_wide_multiply() {
-        let mut bits = xorshift(0xd1b5_4a32_d192_ed03);
-        let mut next = || bits() as i32;
-        let extremes = EXTREME_FACTORS;
-        let want = |a: i32, b: i32| ((i64::from(a) * i64::from(b) + (1 << 31)) >> 32) as i32;
-        for &a in &extremes {
-            for &b in &extremes {
-                assert_eq!(mul_high_rounded_split(a, b), want(a, b), "{a} × {b}");
-            }
-        }
-        for _ in 0..4_000_000 {
-            let (a, b) = (next() >> (next() & 31), next() >> (next() & 31));
-            assert_eq!(mul_high_rounded_split(a, b), want(a, b), "{a} × {b}");
-        }
+        factor_pairs(0xd1b5_4a32_d192_ed03, 4_000_000, false, |a, b| {
+            let want = ((i64::from(a) * i64::from(b) + (1 << 31)) >> 32) as i32;
+            assert_eq!(mul_high_rounded_split(a, b), want, "{a} × {b}");
+        });
     }
 
     /// The ARMv6-M exact product equals the 64-bit one.
     #[test]
     fn exact_split_multiply_matches_wide_multiply() {
-        let mut bits = xorshift(0x9e37_79b9_7f4a_7c15);
-        let mut next = || bits() as i32;
-        let extremes = EXTREME_FACTORS;
-        for &a in &extremes {
-            for &b in &extremes {
-                assert_eq!(
-                    mul_exact_split(a, b),
-                    i64::from(a) * i64::from(b),
-                    "{a} × {b}"
-                );
-            }
-        }
-        for _ in 0..1_000_000 {
-            let (a, b) = (next(), next() >> (next() & 31));
-            assert_eq!(
-                mul_exact_split(a, b),
-                i64::from(a) * i64::from(b),
-                "{a} × {b}"
-            );
-        }
+        factor_pairs(0x9e37_79b9_7f4a_7c15, 1_000_000, true, |a, b| {
+            let want = i64::from(a) * i64::from(b);
+            assert_eq!(mul_exact_split(a, b), want, "{a} × {b}");
+        });
     }
 
     /// The 32-bit rounding shift equals the 64-bit one, saturated.

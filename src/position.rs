@@ -49,6 +49,27 @@ pub trait Position<T: Scalar>: Copy {
     }
 }
 
+/// An encoder count type: two counts are compared by their wrapping
+/// difference on the low 32 bits (see the module documentation).
+pub(crate) trait Count: Copy {
+    /// `self − origin` on the low 32 bits, wrapping.
+    fn difference(self, origin: Self) -> i32;
+}
+
+impl Count for i32 {
+    #[inline(always)]
+    fn difference(self, origin: Self) -> i32 {
+        self.wrapping_sub(origin)
+    }
+}
+
+impl Count for i64 {
+    #[inline(always)]
+    fn difference(self, origin: Self) -> i32 {
+        (self as i32).wrapping_sub(origin as i32)
+    }
+}
+
 /// d·(a − b) ≥ 0 for counts whose wrapping difference a − b is `difference`
 /// (the travel is the difference times a positive scale, rounded:
 /// monotone, 0 at 0). The product wraps only for a difference of −2³¹
@@ -113,8 +134,8 @@ position_f32!(
 position_f32!(
     i32,
     valid: |_x| true,
-    travel: |x, origin, m| x.wrapping_sub(origin) as f32 * m,
-    not_behind: |x, origin, d| counts_not_behind(x.wrapping_sub(origin), d),
+    travel: |x, origin, m| x.difference(origin) as f32 * m,
+    not_behind: |x, origin, d| counts_not_behind(x.difference(origin), d),
 );
 position_f32!(
     /// As for `i32`, the difference is taken on the low 32 bits (wrapping), so
@@ -126,6 +147,6 @@ position_f32!(
     /// count therefore stays exact over any travel at the cost of a 32-bit one.
     i64,
     valid: |_x| true,
-    travel: |x, origin, m| (x as i32).wrapping_sub(origin as i32) as f32 * m,
-    not_behind: |x, origin, d| counts_not_behind((x as i32).wrapping_sub(origin as i32), d),
+    travel: |x, origin, m| x.difference(origin) as f32 * m,
+    not_behind: |x, origin, d| counts_not_behind(x.difference(origin), d),
 );

@@ -214,19 +214,10 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
         self.update_at(model, position, velocity, false)
     }
 
-    /// [`update`](Self::update) on the model with its stiction removed
-    /// (S ≡ Fc, Fs = Fc): the Coulomb part of H for the split level scales
-    /// of [`Feedforward`](crate::compensation::Feedforward).
-    pub(crate) fn update_coulomb<C: Curves<T>>(
-        &mut self,
-        model: &Model<T, C>,
-        position: P,
-        velocity: T,
-    ) -> Result<T, SampleError> {
-        self.update_at(model, position, velocity, true)
-    }
-
-    /// The sample of [`update`](Self::update), with S ≡ Fc when `coulomb`.
+    /// The sample of [`update`](Self::update), with S ≡ Fc when `coulomb`:
+    /// the model with its stiction removed (Fs = Fc), for the Coulomb part
+    /// of H of [`Feedforward`](crate::compensation::Feedforward)'s split
+    /// level scales.
     ///
     /// The common sample — no memory of turning points (`N = 0`),
     /// |σ·v| < [`Scalar::MAX`]/2, S and g without a call — takes a
@@ -240,7 +231,7 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
     /// cannot overflow). The general path is a call made where nothing else
     /// is live, so that the straight path needs no register saves.
     #[inline(always)]
-    fn update_at<C: Curves<T>>(
+    pub(crate) fn update_at<C: Curves<T>>(
         &mut self,
         model: &Model<T, C>,
         position: P,
@@ -268,18 +259,10 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
             self.update_general(model, position, velocity, coulomb)?;
             return Ok(self.force);
         };
-        if self.direction == 0 {
-            // The idle start, as in `update_general` (σ·v is finite).
-            let moved = position.travel_from(self.base.position, self.scale);
-            if moved > T::ZERO {
-                self.direction = 1;
-            } else if moved < T::ZERO {
-                self.direction = -1;
-                self.sign = -T::ONE;
-            } else {
-                self.force = viscous;
-                return Ok(self.force);
-            }
+        if self.direction == 0 && !self.start(position) {
+            // Idle, as in `update_general` (σ·v is finite).
+            self.force = viscous;
+            return Ok(self.force);
         }
         // d·(x − x_ext) < 0: a reversal, pending inside the deadband; the
         // travel itself only when the position type cannot rule it out.
@@ -359,17 +342,9 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
             return Err(SampleError::Position);
         }
         let viscous = model.sigma * velocity;
-        if self.direction == 0 {
-            let moved = position.travel_from(self.base.position, self.scale);
-            if moved > T::ZERO {
-                self.direction = 1;
-            } else if moved < T::ZERO {
-                self.direction = -1;
-                self.sign = -T::ONE;
-            } else {
-                self.force = viscous.saturate();
-                return Ok(());
-            }
+        if self.direction == 0 && !self.start(position) {
+            self.force = viscous.saturate();
+            return Ok(());
         }
         let ahead = self.along(position.travel_from(self.extremum, self.scale));
         if ahead < T::ZERO {
@@ -417,6 +392,23 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
     /// `true` when the current branch has reached gross sliding (w = 1).
     pub fn is_sliding(&self) -> bool {
         self.memory.is_empty() && self.base_saturated
+    }
+
+    /// The [idle start](crate::model_overview#idle-start): the first travel
+    /// from the start position sets the direction d; `false` while there is
+    /// none (the axis stays idle).
+    #[inline(always)]
+    fn start(&mut self, position: P) -> bool {
+        let moved = position.travel_from(self.base.position, self.scale);
+        if moved > T::ZERO {
+            self.direction = 1;
+        } else if moved < T::ZERO {
+            self.direction = -1;
+            self.sign = -T::ONE;
+        } else {
+            return false;
+        }
+        true
     }
 
     /// `x` signed by the direction of motion: d·x.

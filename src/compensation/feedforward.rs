@@ -198,7 +198,7 @@ impl<P: Position<T>, T: Scalar, const N: usize> Feedforward<P, T, N> {
             }
             Some(coulomb) => {
                 // The same samples were just accepted: cannot fail.
-                coulomb.update_coulomb(model, x_ref, v)?;
+                coulomb.update_at(model, x_ref, v, true)?;
                 self.coulomb_dry = coulomb.dry();
                 // |H|, |H_c| ≤ Fs: the difference is in range.
                 let excess = dry - self.coulomb_dry;

@@ -189,9 +189,7 @@ fn consistent_root_beyond_the_range_saturates() {
         0x6400_0000,
         0x000a_0000,
     ];
-    let p = params_from_bits(bits);
-    let model = Model::<f32>::new(p).unwrap();
-    let predictor = BreakAwayPredictor::new(&model, f32::from_bits(0xc3)).unwrap();
+    let (p, model, predictor) = fuzz_case(bits, 0xc3);
     let k = f32::from_bits(0x2b2b_2b2b);
     for variant in Variant::ALL {
         if let Ok(ba) = predictor.predict(&model, variant, k) {
@@ -220,9 +218,7 @@ fn consistent_level_stays_within_fc_and_fs_at_an_extreme_shape() {
         0x693e_3e3e,
         0x0000_d607,
     ];
-    let p = params_from_bits(bits);
-    let model = Model::<f32>::new(p).unwrap();
-    let predictor = BreakAwayPredictor::new(&model, f32::from_bits(0x0600_0100)).unwrap();
+    let (p, model, predictor) = fuzz_case(bits, 0x0600_0100);
     for k in [0x3e3e_3ef3u32, 0x1f06_0001] {
         let k = f32::from_bits(k);
         for variant in Variant::ALL {
@@ -236,11 +232,13 @@ fn consistent_level_stays_within_fc_and_fs_at_an_extreme_shape() {
     }
 }
 
-/// A parameter set from the fuzzer's seven words (the order of
-/// `fuzz/fuzz_targets/common.rs`: Fc, Fs, V, δ, σ, z_max, ε).
-fn params_from_bits(bits: [u32; 7]) -> Params {
+/// A fuzz finding of target `breakaway`: the parameter set from the
+/// fuzzer's seven words (the order of `fuzz/fuzz_targets/common.rs`: Fc,
+/// Fs, V, δ, σ, z_max, ε), its `f32` model and the predictor for the
+/// boundary w_b of the bits `boundary`.
+fn fuzz_case(bits: [u32; 7], boundary: u32) -> (Params, Model<f32>, BreakAwayPredictor<f32>) {
     let [fc, fs, v_stribeck, delta, sigma, z_max, epsilon] = bits.map(f32::from_bits);
-    Params {
+    let p = Params {
         fc,
         fs,
         v_stribeck,
@@ -248,5 +246,8 @@ fn params_from_bits(bits: [u32; 7]) -> Params {
         sigma,
         z_max,
         epsilon,
-    }
+    };
+    let model = Model::<f32>::new(p).unwrap();
+    let predictor = BreakAwayPredictor::new(&model, f32::from_bits(boundary)).unwrap();
+    (p, model, predictor)
 }

@@ -100,13 +100,12 @@ pub fn breakaway_table(target: Target) -> Result<String, String> {
         for (i, expected) in [(3, want.v_b), (4, want.f_ba), (5, want.t_ba)] {
             let got = field(fields, i, line)?;
             let error = ((got - expected) / expected).abs();
-            worst = worst.max(error);
-            if error.is_nan() || error > BREAKAWAY_BOUND {
-                return Err(format!(
-                    "{}: `{line}` column {i} is {got}, reference {expected} (rel. error {error:.2e})",
-                    target.core
-                ));
-            }
+            within(&mut worst, error, BREAKAWAY_BOUND, || {
+                format!(
+                "{}: `{line}` column {i} is {got}, reference {expected} (rel. error {error:.2e})",
+                target.core
+                )
+            })?;
         }
     }
     Ok(format!(
@@ -114,6 +113,22 @@ pub fn breakaway_table(target: Target) -> Result<String, String> {
         target.core,
         rows.len()
     ))
+}
+
+/// Keeps the largest `error` in `worst`; fails with `message` when `error`
+/// is NaN or above `bound`.
+fn within(
+    worst: &mut f64,
+    error: f64,
+    bound: f64,
+    message: impl FnOnce() -> String,
+) -> Result<(), String> {
+    *worst = worst.max(error);
+    if error.is_nan() || error > bound {
+        Err(message())
+    } else {
+        Ok(())
+    }
 }
 
 /// `presliding_loop`: the reference rule against the f64 reference, and the
@@ -139,24 +154,22 @@ pub fn presliding_loop(target: Target) -> Result<String, String> {
         let closing = field(fields, 4, line)?;
         let want = judge.update(&model, position as f64 * count as f64, v as f64);
         let error = (single - want).abs() / model.fs;
-        worst_ref = worst_ref.max(error);
-        if error.is_nan() || error > FRICTION_BOUND {
-            return Err(format!(
+        within(&mut worst_ref, error, FRICTION_BOUND, || {
+            format!(
                 "{}: `{line}`: F = {single}, reference {want} ({error:.2e}·Fs)",
                 target.core
-            ));
-        }
+            )
+        })?;
         let host_f = host
             .update(&host_model, position, v)
             .map_err(|e| e.to_string())?;
         let error = (closing - host_f as f64).abs() / model.fs;
-        worst_host = worst_host.max(error);
-        if error.is_nan() || error > FRICTION_BOUND {
-            return Err(format!(
+        within(&mut worst_host, error, FRICTION_BOUND, || {
+            format!(
                 "{}: `{line}`: closing F = {closing}, host build {host_f}",
                 target.core
-            ));
-        }
+            )
+        })?;
     }
     Ok(format!(
         "presliding_loop on {}: {} samples, reference rule vs f64 reference worst {worst_ref:.2e}·Fs, \
@@ -350,13 +363,12 @@ pub fn fixed_point(target: Target) -> Result<String, String> {
             let f = raw(fields, 4, line)? * model.fs;
             let want = judge.update(&model, position * count, v);
             let error = (f - want).abs() / model.fs;
-            worst_f = worst_f.max(error);
-            if error.is_nan() || error > FIXED_FRICTION_BOUND {
-                return Err(format!(
+            within(&mut worst_f, error, FIXED_FRICTION_BOUND, || {
+                format!(
                     "{}: `{line}`: F = {f}, reference {want} ({error:.2e}·Fs)",
                     target.core
-                ));
-            }
+                )
+            })?;
         }
     }
     let rows = counted(&output, "ba", "fixed_point", 20)?;
@@ -607,14 +619,13 @@ pub fn long_run(target: Target) -> Result<String, String> {
             }
             let f = field(fields, 4, line)?;
             let error = (f - want).abs() / model.fs;
-            worst = worst.max(error);
             compared += 1;
-            if error.is_nan() || error > FRICTION_BOUND {
-                return Err(format!(
+            within(&mut worst, error, FRICTION_BOUND, || {
+                format!(
                     "{}: long_run `{line}`: F = {f}, reference {want} ({error:.2e}·Fs)",
                     target.core
-                ));
-            }
+                )
+            })?;
         }
     }
     if let Some((line, _)) = rows.next() {
