@@ -8,27 +8,15 @@ use breakaway_lab::fit::Prepared;
 use breakaway_reference::Model;
 use std::path::Path;
 
-fn main() {
+fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let (Some(d), Some(m)) = (args.first(), args.get(1)) else {
         eprintln!("usage: dump_residual DATA MODEL.toml [K]");
         std::process::exit(2);
     };
     let k = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(5);
-    let rec = match data::load(Path::new(d)) {
-        Ok(r) => r,
-        Err(e) => {
-            eprintln!("error: {e}");
-            std::process::exit(1);
-        }
-    };
-    let model = match Model::load(Path::new(m)) {
-        Ok(m) => m,
-        Err(e) => {
-            eprintln!("error: {e}");
-            std::process::exit(1);
-        }
-    };
+    let rec = data::load(Path::new(d))?;
+    let model = Model::load(Path::new(m))?;
     let kf = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(k);
     let mut p = Prepared::with_window(
         &rec,
@@ -55,4 +43,5 @@ fn main() {
             ri
         );
     }
+    Ok(())
 }

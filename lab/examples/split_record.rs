@@ -17,25 +17,17 @@ fn part(rec: &Record, lo: usize, hi: usize) -> Record {
     }
 }
 
-fn main() {
+fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let (Some(d), Some(prefix)) = (args.first(), args.get(1)) else {
         eprintln!("usage: split_record DATA OUT_PREFIX");
         std::process::exit(2);
     };
-    let rec = match data::load(Path::new(d)) {
-        Ok(r) => r,
-        Err(e) => {
-            eprintln!("error: {e}");
-            std::process::exit(1);
-        }
-    };
+    let rec = data::load(Path::new(d))?;
     let n = rec.len();
     for (k, (lo, hi)) in [(0, n / 2), (n / 2, n)].into_iter().enumerate() {
         let path = format!("{prefix}{}.csv", k + 1);
-        if let Err(e) = data::write_csv(Path::new(&path), &part(&rec, lo, hi), &[]) {
-            eprintln!("error: {e}");
-            std::process::exit(1);
-        }
+        data::write_csv(Path::new(&path), &part(&rec, lo, hi), &[])?;
     }
+    Ok(())
 }

@@ -24,14 +24,26 @@ fn opts(tol: f64) -> SimOptions {
     }
 }
 
+/// Under the slow ramps k = 0.01, 0.03 and 0.1 N/s (w_b = 0.95): k, the
+/// dynamic break-away of `m` at the integrator tolerance `tol` and the
+/// quasi-static `Consistent` one.
+fn slow_ramps(m: &Model, tol: f64) -> Vec<(f64, DynamicBreakAway, BreakAway)> {
+    [0.01, 0.03, 0.1]
+        .into_iter()
+        .map(|k| {
+            let d = simulate_break_away_with(m, k, 0.95, &opts(tol)).unwrap();
+            let p = predict_break_away(m, Variant::Consistent, k, 0.95).unwrap();
+            (k, d, p)
+        })
+        .collect()
+}
+
 #[test]
 fn dynamic_matches_quasi_static_for_slow_ramps() {
     // δ = 2: S'(0) = 0, so presliding is not self-excited at creep speeds;
     // inertia is negligible for k ≪ 3.6 N/s (§4).
     let m = setting(2.0);
-    for k in [0.01, 0.03, 0.1] {
-        let d = simulate_break_away_with(&m, k, 0.95, &opts(1e-9)).unwrap();
-        let p = predict_break_away(&m, Variant::Consistent, k, 0.95).unwrap();
+    for (k, d, p) in slow_ramps(&m, 1e-9) {
         assert_eq!(d.f_ba, k * d.t_ba);
         assert!(rel(d.t_ba, p.t_ba) < 2e-4, "k={k}: {d:?} vs {p:?}");
         assert!(rel(d.f_ba, p.f_ba) < 0.01, "k={k}: {d:?} vs {p:?}");
@@ -47,9 +59,7 @@ fn paper_setting_is_close_to_quasi_static_but_self_excited() {
     // is unstable and breaks up into micro stick-slip (§8, Π ≈ 5.5); the
     // dynamic break-away is a little below the quasi-static one.
     let m = setting(1.0);
-    for k in [0.01, 0.03, 0.1] {
-        let d = simulate_break_away_with(&m, k, 0.95, &opts(1e-8)).unwrap();
-        let p = predict_break_away(&m, Variant::Consistent, k, 0.95).unwrap();
+    for (k, d, p) in slow_ramps(&m, 1e-8) {
         assert!(rel(d.f_ba, p.f_ba) < 0.025, "k={k}: {d:?} vs {p:?}");
         assert!(d.f_ba < p.f_ba, "k={k}: {d:?} vs {p:?}");
         assert!(d.f_ba > m.fc);

@@ -11,7 +11,9 @@ use breakaway_reference as reference;
 use proptest::prelude::*;
 
 mod common;
-use common::{check, params, reference_model, samples, trajectory, Segment, Worst};
+use common::{
+    check, params, reference_break_away, reference_model, samples, trajectory, Segment, Worst,
+};
 
 static WORST_FRICTION: Worst = Worst::new();
 static WORST_BREAKAWAY: Worst = Worst::new();
@@ -59,10 +61,7 @@ fn break_away_matches_reference_within_1e_4() {
         let k = 10f32.powf(log_k) * p.fc;
         let predictor = BreakAwayPredictor::new(&model, w_b).unwrap();
         for variant in Variant::ALL {
-            let judge_variant = reference::Variant::parse(variant.name()).unwrap();
-            let want =
-                reference::predict_break_away(&judge_model, judge_variant, k as f64, w_b as f64)
-                    .unwrap();
+            let want = reference_break_away(&judge_model, variant, k as f64, w_b as f64);
             let got = predictor.predict(&model, variant, k).unwrap();
             let rel = |a: f32, b: f64| ((a as f64 - b) / b).abs();
             let error = rel(got.f_ba, want.f_ba)

@@ -14,7 +14,9 @@ use breakaway_reference as reference;
 use proptest::prelude::*;
 
 mod common;
-use common::{check, params, reference_model, samples, trajectory, Segment, Worst, FIG5};
+use common::{
+    check, params, reference_break_away, reference_model, samples, trajectory, Segment, Worst, FIG5,
+};
 
 /// Worst |F − F_ref|/Fs over the samples of `segments` (in steps of
 /// z_max/1000) read by an encoder of `per_z_max` counts per z_max.
@@ -102,9 +104,7 @@ fn fixed_break_away_matches_reference_within_1e_3() {
         let k_q = Q16::from_f32(10f32.powf(log_k).max(k_min)).unwrap();
         let k = k_q.to_f32() as f64 * p.fs as f64;
         for variant in Variant::ALL {
-            let judge_variant = reference::Variant::parse(variant.name()).unwrap();
-            let want =
-                reference::predict_break_away(&judge_model, judge_variant, k, w_b as f64).unwrap();
+            let want = reference_break_away(&judge_model, variant, k, w_b as f64);
             let got = predictor.predict(&model, variant, k_q).unwrap();
             let f_ba = got.f_ba.to_f32() as f64 * p.fs as f64;
             let error = ((f_ba - want.f_ba) / want.f_ba).abs();

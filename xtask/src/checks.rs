@@ -100,10 +100,9 @@ pub fn breakaway_table(target: Target) -> Result<String, String> {
         for (i, expected) in [(3, want.v_b), (4, want.f_ba), (5, want.t_ba)] {
             let got = field(fields, i, line)?;
             let error = ((got - expected) / expected).abs();
-            within(&mut worst, error, BREAKAWAY_BOUND, || {
+            within(target, &mut worst, error, BREAKAWAY_BOUND, || {
                 format!(
-                "{}: `{line}` column {i} is {got}, reference {expected} (rel. error {error:.2e})",
-                target.core
+                    "`{line}` column {i} is {got}, reference {expected} (rel. error {error:.2e})"
                 )
             })?;
         }
@@ -115,9 +114,10 @@ pub fn breakaway_table(target: Target) -> Result<String, String> {
     ))
 }
 
-/// Keeps the largest `error` in `worst`; fails with `message` when `error`
-/// is NaN or above `bound`.
+/// Keeps the largest `error` in `worst`; fails with `message` after the
+/// core's name when `error` is NaN or above `bound`.
 fn within(
+    target: Target,
     worst: &mut f64,
     error: f64,
     bound: f64,
@@ -125,7 +125,7 @@ fn within(
 ) -> Result<(), String> {
     *worst = worst.max(error);
     if error.is_nan() || error > bound {
-        Err(message())
+        Err(format!("{}: {}", target.core, message()))
     } else {
         Ok(())
     }
@@ -154,21 +154,15 @@ pub fn presliding_loop(target: Target) -> Result<String, String> {
         let closing = field(fields, 4, line)?;
         let want = judge.update(&model, position as f64 * count as f64, v as f64);
         let error = (single - want).abs() / model.fs;
-        within(&mut worst_ref, error, FRICTION_BOUND, || {
-            format!(
-                "{}: `{line}`: F = {single}, reference {want} ({error:.2e}·Fs)",
-                target.core
-            )
+        within(target, &mut worst_ref, error, FRICTION_BOUND, || {
+            format!("`{line}`: F = {single}, reference {want} ({error:.2e}·Fs)")
         })?;
         let host_f = host
             .update(&host_model, position, v)
             .map_err(|e| e.to_string())?;
         let error = (closing - host_f as f64).abs() / model.fs;
-        within(&mut worst_host, error, FRICTION_BOUND, || {
-            format!(
-                "{}: `{line}`: closing F = {closing}, host build {host_f}",
-                target.core
-            )
+        within(target, &mut worst_host, error, FRICTION_BOUND, || {
+            format!("`{line}`: closing F = {closing}, host build {host_f}")
         })?;
     }
     Ok(format!(
@@ -363,11 +357,8 @@ pub fn fixed_point(target: Target) -> Result<String, String> {
             let f = raw(fields, 4, line)? * model.fs;
             let want = judge.update(&model, position * count, v);
             let error = (f - want).abs() / model.fs;
-            within(&mut worst_f, error, FIXED_FRICTION_BOUND, || {
-                format!(
-                    "{}: `{line}`: F = {f}, reference {want} ({error:.2e}·Fs)",
-                    target.core
-                )
+            within(target, &mut worst_f, error, FIXED_FRICTION_BOUND, || {
+                format!("`{line}`: F = {f}, reference {want} ({error:.2e}·Fs)")
             })?;
         }
     }
@@ -620,11 +611,8 @@ pub fn long_run(target: Target) -> Result<String, String> {
             let f = field(fields, 4, line)?;
             let error = (f - want).abs() / model.fs;
             compared += 1;
-            within(&mut worst, error, FRICTION_BOUND, || {
-                format!(
-                    "{}: long_run `{line}`: F = {f}, reference {want} ({error:.2e}·Fs)",
-                    target.core
-                )
+            within(target, &mut worst, error, FRICTION_BOUND, || {
+                format!("long_run `{line}`: F = {f}, reference {want} ({error:.2e}·Fs)")
             })?;
         }
     }

@@ -33,6 +33,18 @@ pub fn reference_model(p: &Params) -> reference::Model {
     }
 }
 
+/// The reference's break-away of `model` for the library's `variant` under
+/// the force ramp k [N/s] with the boundary w_b (every valid input has one).
+pub fn reference_break_away(
+    model: &reference::Model,
+    variant: breakaway::Variant,
+    k: f64,
+    w_b: f64,
+) -> reference::BreakAway {
+    let variant = reference::Variant::parse(variant.name()).unwrap();
+    reference::predict_break_away(model, variant, k, w_b).unwrap()
+}
+
 /// Parameter sets over the ranges a motion axis meets: Fc 0.1 … 100 N,
 /// Fs up to 3·Fc, V 0.1 … 100 mm/s, δ from `delta` or the usual 0.5, 1, 2,
 /// σ up to Fc/V, z_max 1 µm … 1 mm, ε 0 or a half-count multiple of
