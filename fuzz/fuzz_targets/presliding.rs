@@ -5,7 +5,7 @@
 //! the state unchanged.
 #![no_main]
 
-use breakaway::{Model, Presliding, Scalar, Q16};
+use breakaway::{Model, Presliding, Q16};
 use libfuzzer_sys::fuzz_target;
 
 #[path = "common.rs"]
