@@ -1051,6 +1051,20 @@ mod tests {
                 },
                 "count phase",
             ),
+            (
+                Setup {
+                    z_max_scale: 0.0,
+                    ..quiet
+                },
+                "z_max scale",
+            ),
+            (
+                Setup {
+                    feedforward_levels: Some((1.0, -0.5)),
+                    ..quiet
+                },
+                "feedforward levels",
+            ),
         ] {
             let e = run(PlantKind::Model, c, Drift::None, &setup).unwrap_err();
             assert!(e.contains(needle), "{e}");
