@@ -138,6 +138,17 @@ pub fn auto_window(rec: &crate::data::Record) -> Window {
     }
 }
 
+/// Mass [kg] and Coulomb level [N] by linear least squares of the force
+/// balance in sliding, `ū = m·â + Fc·sgn(v̂)` (force and sign through the
+/// kernel), at the samples `fast`; `None` when the system is singular.
+pub fn mass_and_coulomb(p: &Prepared, fast: &[usize]) -> Option<(f64, f64)> {
+    let sgn: Vec<f64> = p.v.iter().map(|v| v.signum()).collect();
+    let col_a: Vec<f64> = fast.iter().map(|&i| p.a[i]).collect();
+    let col_s: Vec<f64> = fast.iter().map(|&i| p.filter_at(&sgn, i)).collect();
+    let b: Vec<f64> = fast.iter().map(|&i| p.filter_at(&p.u_mid, i)).collect();
+    crate::linalg::lstsq(&[col_a, col_s], &b).map(|c| (c[0], c[1]))
+}
+
 /// The smallest force half-width (from [`AUTO_HALF_WIDTH`] up to
 /// [`MAX_AUTO_HALF_WIDTH`]) at which the quantisation noise of `m·â` is at
 /// most [`MAX_QUANTISATION_RATIO`] times the filtered force noise.
@@ -156,14 +167,9 @@ fn quantisation_window(rec: &crate::data::Record) -> usize {
         .valid()
         .filter(|&i| !p.still[i] && p.v[i].abs() >= v_med)
         .collect();
-    let sgn: Vec<f64> = p.v.iter().map(|v| v.signum()).collect();
-    let col_a: Vec<f64> = fast.iter().map(|&i| p.a[i]).collect();
-    let col_s: Vec<f64> = fast.iter().map(|&i| p.filter_at(&sgn, i)).collect();
-    let b: Vec<f64> = fast.iter().map(|&i| p.filter_at(&p.u_mid, i)).collect();
-    let Some(c) = crate::linalg::lstsq(&[col_a, col_s], &b) else {
+    let Some((mass, fc)) = mass_and_coulomb(&p, &fast) else {
         return AUTO_HALF_WIDTH;
     };
-    let (mass, fc) = (c[0], c[1]);
     if !(mass.is_finite() && mass > 0.0 && fc.is_finite() && fc > 0.0) {
         return AUTO_HALF_WIDTH;
     }

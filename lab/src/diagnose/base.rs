@@ -36,14 +36,7 @@ pub fn initial_base(p: &Prepared, progress: &mut dyn FnMut(&str)) -> Model {
         .valid()
         .filter(|&i| !p.held_out[i] && p.v[i].abs() >= v_med)
         .collect();
-    let sgn: Vec<f64> = p.v.iter().map(|v| v.signum()).collect();
-    let col_a: Vec<f64> = fast.iter().map(|&i| p.a[i]).collect();
-    let col_s: Vec<f64> = fast.iter().map(|&i| p.filter_at(&sgn, i)).collect();
-    let b: Vec<f64> = fast.iter().map(|&i| p.filter_at(&p.u_mid, i)).collect();
-    let (mut mass, mut fc) = match crate::linalg::lstsq(&[col_a, col_s], &b) {
-        Some(c) => (c[0], c[1]),
-        None => (f64::NAN, f64::NAN),
-    };
+    let (mut mass, mut fc) = fit::mass_and_coulomb(p, &fast).unwrap_or((f64::NAN, f64::NAN));
     if !(fc.is_finite() && fc > 0.0) {
         let mut u: Vec<f64> = fast.iter().map(|&i| p.u_mid[i].abs()).collect();
         fc = quantile(&mut u, 0.5).max(1e-6);
