@@ -8,7 +8,9 @@
 //!
 //! `cargo run --release -p breakaway-lab --example adaptive_rows`
 
-use breakaway_lab::closed_loop::{run, Compensator, Drift, PlantKind, Setup, TARGET_ENCODER};
+use breakaway_lab::closed_loop::{
+    peaks_over_phases, Compensator, Drift, PlantKind, Setup, TARGET_ENCODER,
+};
 
 fn main() -> Result<(), String> {
     let n: usize = std::env::var("PHASES")
@@ -29,31 +31,11 @@ fn main() -> Result<(), String> {
     for plant in [PlantKind::LuGre, PlantKind::Model] {
         let mut tuned = (0.0, 0.0);
         for drift in [Drift::None, Drift::Coulomb, Drift::Levels] {
-            let peaks: Vec<f64> = std::thread::scope(|scope| {
-                let handles: Vec<_> = phases
-                    .chunks(phases.len().div_ceil(2))
-                    .map(|chunk| {
-                        scope.spawn(move || {
-                            chunk
-                                .iter()
-                                .map(|&count_phase| {
-                                    let setup = Setup {
-                                        count_phase,
-                                        ..Setup::encoder(TARGET_ENCODER)
-                                    };
-                                    run(plant, c, drift, &setup)
-                                        .map(|f| f.peak_reversal_error * 1e6)
-                                })
-                                .collect::<Result<Vec<f64>, String>>()
-                        })
-                    })
-                    .collect();
-                handles
+            let peaks: Vec<f64> =
+                peaks_over_phases(plant, c, drift, &Setup::encoder(TARGET_ENCODER), &phases)?
                     .into_iter()
-                    .map(|h| h.join().map_err(|_| "thread panicked".to_string())?)
-                    .collect::<Result<Vec<Vec<f64>>, String>>()
-                    .map(|v| v.concat())
-            })?;
+                    .map(|p| p * 1e6)
+                    .collect();
             let mean = peaks.iter().sum::<f64>() / peaks.len() as f64;
             if drift == Drift::None {
                 tuned = (peaks[0], mean);

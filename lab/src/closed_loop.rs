@@ -533,6 +533,29 @@ pub fn run(
     run_on(plant_kind, &MODEL_PLANT, compensator, drift, setup)
 }
 
+/// The peak reversal error [m] of [`run`] at each count phase of `phases`
+/// [counts] (in that order, run in parallel), the rest of the setup as
+/// `base`: the spread of a row over where the counts fall.
+pub fn peaks_over_phases(
+    plant_kind: PlantKind,
+    compensator: Compensator,
+    drift: Drift,
+    base: &Setup,
+    phases: &[f64],
+) -> Result<Vec<f64>, String> {
+    use rayon::prelude::*;
+    phases
+        .par_iter()
+        .map(|&count_phase| {
+            let setup = Setup {
+                count_phase,
+                ..*base
+            };
+            run(plant_kind, compensator, drift, &setup).map(|f| f.peak_reversal_error)
+        })
+        .collect()
+}
+
 /// The parameters of a MODEL.md plant carrying the fractions `errors` =
 /// [Fc, Fs, V, z_max] (dimensionless) of the parameter errors of
 /// [`MODEL_PLANT`] against [`MODEL_COMPENSATOR`], each interpolated
@@ -560,9 +583,10 @@ pub fn run_on(
     setup: &Setup,
 ) -> Result<Figures, String> {
     setup.check()?;
+    let tuned = compensator_params(plant_kind);
     let params = breakaway::Params {
-        z_max: (f64::from(compensator_params(plant_kind).z_max) * setup.z_max_scale) as f32,
-        ..compensator_params(plant_kind)
+        z_max: (f64::from(tuned.z_max) * setup.z_max_scale) as f32,
+        ..tuned
     };
     let model = breakaway::Model::<f32>::new(params).map_err(|e| e.to_string())?;
     let mut plant: Box<dyn Plant> = match plant_kind {
@@ -1157,19 +1181,9 @@ mod tests {
     #[test]
     #[ignore = "a diagnosis for docs/compensation.md (88 runs)"]
     fn drift_and_feedforward_diagnosis() {
-        use rayon::prelude::*;
         let phases = [0.0, 0.25, 0.5, 0.75];
         let mean = |plant: PlantKind, c: Compensator, drift: Drift, base: Setup| {
-            let peaks: Vec<f64> = phases
-                .par_iter()
-                .map(|&count_phase| {
-                    let setup = Setup {
-                        count_phase,
-                        ..base
-                    };
-                    run(plant, c, drift, &setup).unwrap().peak_reversal_error
-                })
-                .collect();
+            let peaks = peaks_over_phases(plant, c, drift, &base, &phases).unwrap();
             peaks.iter().sum::<f64>() / peaks.len() as f64 * 1e6
         };
         let quiet = Setup::encoder(TARGET_ENCODER);
