@@ -99,8 +99,15 @@ pub struct Scored {
     pub exact: bool,
     /// Gap shrink `1 − after/before` (with hidden effects).
     pub shrink: Option<f64>,
+    /// The report's gap before [N].
+    pub rms_before: Option<f64>,
     /// Diagnose failed (message).
     pub failed: Option<String>,
+    /// Model error [N] of the generator's own true model (`truth.toml`)
+    /// under the same metric (`breakaway-lab validate`: the record's base
+    /// weights, all samples); `None` where it could not be measured
+    /// (steady-state records).
+    pub true_model_error: Option<f64>,
 }
 
 impl Scored {
@@ -108,6 +115,26 @@ impl Scored {
     pub fn success(&self) -> bool {
         self.exact && self.shrink.is_none_or(|s| s >= 0.5)
     }
+
+    /// With hidden effects, whether even the generator's true model leaves
+    /// more than half of the reported gap (`rms_before`): no diagnosis
+    /// could halve it on this metric, because the record holds a
+    /// disagreement that the model evaluated along the measured counts
+    /// cannot reproduce (e.g. MODEL.md §8's self-excited presliding creep
+    /// under the counts).
+    pub fn beyond_metric(&self) -> bool {
+        match (self.true_model_error, self.rms_before) {
+            (Some(t), Some(b)) if !self.hidden.is_empty() => t > 0.5 * b,
+            _ => false,
+        }
+    }
+}
+
+/// What the score reads of `breakaway-lab validate --json`.
+#[derive(Debug, Deserialize)]
+pub struct Validation {
+    /// Model error above the floor [N] (`null` when not finite).
+    pub model_error: Option<f64>,
 }
 
 /// What `truth.json` of the generator says about a record (the fields the
@@ -164,7 +191,9 @@ pub fn score(name: &str, truth: Truth, report: Result<Report, String>) -> Scored
             visibility,
             exact: false,
             shrink: None,
+            rms_before: None,
             failed: Some(e),
+            true_model_error: None,
         },
         Ok(rep) => {
             let named = rep.effects_added;
@@ -185,7 +214,9 @@ pub fn score(name: &str, truth: Truth, report: Result<Report, String>) -> Scored
                 visibility,
                 exact,
                 shrink,
+                rms_before: rep.rms_before,
                 failed: None,
+                true_model_error: None,
             }
         }
     }
@@ -256,7 +287,8 @@ pub fn sweep(o: &Options) -> Result<Vec<Scored>, String> {
             Ok(out) => Err(String::from_utf8_lossy(&out.stderr).trim().to_string()),
             Err(e) => Err(format!("cannot run breakaway-lab: {e}")),
         };
-        let s = score(&name, truth, report);
+        let mut s = score(&name, truth, report);
+        s.true_model_error = true_model_error(&lab, dir);
         let k = done.fetch_add(1, Ordering::Relaxed) + 1;
         let line = format!(
             "sweep [{k}/{total}] {name}: hidden [{}] named [{}]{}",
@@ -287,6 +319,26 @@ pub fn sweep(o: &Options) -> Result<Vec<Scored>, String> {
     bar.finish_and_clear();
     scored.sort_by(|a, b| a.name.cmp(&b.name));
     Ok(scored)
+}
+
+/// `breakaway-lab validate` of the record's `truth.toml` on its
+/// `data.csv` (`None` when either is missing or validate fails, as on
+/// steady-state records).
+fn true_model_error(lab: &Path, dir: &Path) -> Option<f64> {
+    let out = Command::new(lab)
+        .arg("validate")
+        .arg("--model")
+        .arg(dir.join("truth.toml"))
+        .arg(dir.join("data.csv"))
+        .arg("--json")
+        .output()
+        .ok()?;
+    if !out.status.success() {
+        return None;
+    }
+    serde_json::from_slice::<Validation>(&out.stdout)
+        .ok()?
+        .model_error
 }
 
 /// A progress bar under the per-record lines on a terminal; hidden
@@ -324,6 +376,10 @@ fn median(mut v: Vec<f64>) -> f64 {
 /// written.
 #[derive(Debug, Serialize)]
 pub struct Summary {
+    /// Records with hidden effects on which the generator's true model
+    /// itself leaves more than half of the gap ([`Scored::beyond_metric`]),
+    /// and how many of them are misses.
+    pub beyond_metric: BeyondMetric,
     /// Hidden effects at ≥ 20× the noise, and how many of them were named.
     pub detection_above_20x: Detection,
     /// Records `diagnose` failed on.
@@ -357,6 +413,15 @@ pub struct Detection {
     pub effects: usize,
 }
 
+/// Records beyond the metric.
+#[derive(Debug, Serialize)]
+pub struct BeyondMetric {
+    /// Of them, misses.
+    pub misses: usize,
+    /// Records.
+    pub records: usize,
+}
+
 /// A record `diagnose` failed on.
 #[derive(Debug, Serialize)]
 pub struct Failed {
@@ -377,6 +442,8 @@ pub struct Miss {
     pub record: String,
     /// Gap shrink.
     pub shrink: Option<f64>,
+    /// Model error of the generator's true model [N] ([`Scored::true_model_error`]).
+    pub true_model_error: Option<f64>,
 }
 
 /// Detection of one hidden effect.
@@ -521,10 +588,18 @@ pub fn summary(scored: &[Scored]) -> Summary {
                 named: s.named.clone(),
                 record: s.name.clone(),
                 shrink: s.shrink,
+                true_model_error: s.true_model_error,
             })
             .collect(),
         named_exactly: scored.iter().filter(|s| s.exact).count(),
         named_exactly_and_gap_halved: scored.iter().filter(|s| s.success()).count(),
+        beyond_metric: BeyondMetric {
+            misses: scored
+                .iter()
+                .filter(|s| s.beyond_metric() && !s.success())
+                .count(),
+            records: scored.iter().filter(|s| s.beyond_metric()).count(),
+        },
         null_records: nulls.len(),
         per_effect,
         per_plant,
@@ -628,7 +703,9 @@ mod tests {
             named,
             visibility: hidden.iter().map(|(h, v)| (h.to_string(), *v)).collect(),
             shrink,
+            rms_before: shrink.map(|_| 1.0),
             failed: None,
+            true_model_error: None,
         }
     }
 
@@ -638,16 +715,21 @@ mod tests {
     fn summary_json_text() {
         let mut failed = scored("s4", "lugre", &[("drift", 30.0)], &[], None);
         failed.failed = Some("diagnose failed".into());
+        let mut s1 = scored("s1", "model", &[("offset", 25.0)], &["offset"], Some(0.75));
+        s1.true_model_error = Some(0.1);
+        // The true model leaves 0.6 of a gap of 1: beyond the metric.
+        let mut s3 = scored(
+            "s3",
+            "lugre",
+            &[("offset", 5.0), ("drift", 12.0)],
+            &["offset"],
+            Some(0.2),
+        );
+        s3.true_model_error = Some(0.6);
         let records = [
-            scored("s1", "model", &[("offset", 25.0)], &["offset"], Some(0.75)),
+            s1,
             scored("s2", "model", &[], &["viscous"], None),
-            scored(
-                "s3",
-                "lugre",
-                &[("offset", 5.0), ("drift", 12.0)],
-                &["offset"],
-                Some(0.2),
-            ),
+            s3,
             failed,
         ];
         let text = serde_json::to_string_pretty(&summary(&records)).unwrap();
@@ -658,6 +740,10 @@ mod tests {
     }
 
     const EXPECTED_SUMMARY: &str = r#"{
+  "beyond_metric": {
+    "misses": 1,
+    "records": 1
+  },
   "detection_above_20x": {
     "detected": 1,
     "effects": 2
@@ -677,7 +763,8 @@ mod tests {
         "viscous"
       ],
       "record": "s2",
-      "shrink": null
+      "shrink": null,
+      "true_model_error": null
     },
     {
       "hidden": [
@@ -688,7 +775,8 @@ mod tests {
         "offset"
       ],
       "record": "s3",
-      "shrink": 0.2
+      "shrink": 0.2,
+      "true_model_error": 0.6
     },
     {
       "hidden": [
@@ -696,7 +784,8 @@ mod tests {
       ],
       "named": [],
       "record": "s4",
-      "shrink": null
+      "shrink": null,
+      "true_model_error": null
     }
   ],
   "named_exactly": 1,
