@@ -226,6 +226,14 @@ pub(super) fn tidy(p: &Prepared, m: Model) -> Model {
 
 /// `m` without the catalogue effect `effect`.
 pub(super) fn remove_effect(m: &Model, effect: Effect, p: &Prepared) -> Model {
+    without_effect(m, effect, || low_speed(p).unwrap_or(1e-3))
+}
+
+/// `m` without the catalogue effect `effect`, on time records and
+/// steady-state records alike. Without `stribeck` (`Fs = Fc` marks the
+/// absence, MODEL.md §7) V and δ have no effect and are written as neutral,
+/// physical values: δ = 1 and V = `neutral_v()` [m/s], a speed of the data.
+pub(crate) fn without_effect(m: &Model, effect: Effect, neutral_v: impl FnOnce() -> f64) -> Model {
     let mut c = m.clone();
     let e = &mut c.effects;
     match effect {
@@ -238,10 +246,8 @@ pub(super) fn remove_effect(m: &Model, effect: Effect, p: &Prepared) -> Model {
         Effect::Drift => e.drift = None,
         Effect::NonlinearViscous => e.nonlinear_viscous = None,
         Effect::Stribeck => {
-            // Fs = Fc marks the absence (MODEL.md §7); V and δ then have no
-            // effect and are written as neutral, physical values.
             c.fs = c.fc;
-            c.v_stribeck = low_speed(p).unwrap_or(1e-3);
+            c.v_stribeck = neutral_v();
             c.delta = 1.0;
         }
         Effect::Presliding => c.z_max = 0.0,
