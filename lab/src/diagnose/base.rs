@@ -4,20 +4,12 @@
 
 use super::*;
 
-/// The paper's Fig. 5 parameter set as a model (m = 1 kg, no effects): the
-/// placeholder start when no start model fits, and the tests' default.
+/// The paper's Fig. 5 parameter set as a model (`lab/models/fig5.toml`:
+/// m = 1 kg, no effects): the placeholder start when no start model fits,
+/// and the tests' default.
 pub(crate) fn fig5_model() -> Model {
-    Model {
-        mass: 1.0,
-        fc: 1.0,
-        fs: 1.5,
-        v_stribeck: 1e-3,
-        delta: 1.0,
-        sigma: 0.0,
-        z_max: 1e-5,
-        epsilon: 0.0,
-        effects: Effects::default(),
-    }
+    Model::from_toml_str(include_str!("../../models/fig5.toml"))
+        .expect("lab/models/fig5.toml is a valid model file")
 }
 
 /// The base model of MODEL.md §2–§3 (Coulomb + Stribeck + presliding,
