@@ -38,6 +38,6 @@ pub use predict::{
 };
 pub use presliding::Presliding;
 pub use sim::{
-    simulate, simulate_break_away, simulate_break_away_with, simulate_with, DynamicBreakAway,
-    Sample, SimError, SimOptions,
+    simulate, simulate_break_away, simulate_break_away_with, DynamicBreakAway, Sample, SimError,
+    SimOptions,
 };

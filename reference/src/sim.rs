@@ -644,21 +644,8 @@ pub fn simulate(
     t_end: f64,
     dt_out: f64,
 ) -> Result<Vec<Sample>, SimError> {
-    simulate_with(m, u, x0, v0, t_end, dt_out, &SimOptions::default())
-}
-
-/// [`simulate`] with explicit integrator options.
-pub fn simulate_with(
-    m: &Model,
-    u: &dyn Fn(f64) -> f64,
-    x0: f64,
-    v0: f64,
-    t_end: f64,
-    dt_out: f64,
-    opts: &SimOptions,
-) -> Result<Vec<Sample>, SimError> {
+    let opts = SimOptions::default();
     check_model(m)?;
-    check_tol(opts)?;
     if !x0.is_finite() {
         return Err(arg_err("x0", x0, "finite"));
     }
