@@ -15,7 +15,8 @@ use proptest::prelude::*;
 
 mod common;
 use common::{
-    check, params, reference_break_away, reference_model, samples, trajectory, Segment, Worst, FIG5,
+    boundary, check, params, reference_break_away, reference_model, samples, trajectory, Segment,
+    Worst, FIG5,
 };
 
 /// Worst |F − F_ref|/Fs over the samples of `segments` (in steps of
@@ -87,11 +88,7 @@ fn fixed_friction_matches_reference_within_1e_3_fs() {
 fn fixed_break_away_matches_reference_within_1e_3() {
     let worst = Worst::new();
     // k from 0.01 to 30 Fs/s (raised where v_b would fall below 1e-3·V).
-    let cases = (
-        params(0.5..2.0),
-        -2.0f32..1.5,
-        prop_oneof![Just(0.95f32), 0.5f32..0.99],
-    );
+    let cases = (params(0.5..2.0), -2.0f32..1.5, boundary());
     check(300, &cases, |(p, log_k, w_b)| {
         let model = Model::<Q16>::new(p).unwrap();
         let judge_model = reference_model(&p);
