@@ -37,24 +37,18 @@ pub enum Variant {
     Consistent,
 }
 
+/// The identifiers of the variants, in declaration order (indexed by the
+/// variant).
+const NAMES: [&str; 4] = ["coulomb", "stiction", "mean", "consistent"];
+
 impl Variant {
     /// All variants, in the order of MODEL.md §4.
-    pub const ALL: [Variant; 4] = [
-        Variant::Coulomb,
-        Variant::Stiction,
-        Variant::Mean,
-        Variant::Consistent,
-    ];
+    pub const ALL: [Variant; 4] = [Self::Coulomb, Self::Stiction, Self::Mean, Self::Consistent];
 
     /// The identifier used in reports and files: `coulomb`, `stiction`,
     /// `mean`, `consistent`.
     pub fn name(self) -> &'static str {
-        match self {
-            Variant::Coulomb => "coulomb",
-            Variant::Stiction => "stiction",
-            Variant::Mean => "mean",
-            Variant::Consistent => "consistent",
-        }
+        NAMES[self as usize]
     }
 
     /// Parses an identifier as written by [`Variant::name`] (exact match).
