@@ -29,15 +29,8 @@ const SHAPE_K: usize = 64;
 const SHAPE_OCTAVES: usize = 16;
 
 fn shape_table() -> String {
-    let g = |w: f64| {
-        if w <= 0.0 {
-            0.0
-        } else if w >= 1.0 {
-            1.0
-        } else {
-            w * (1.0 - w.ln())
-        }
-    };
+    // The grid's w lies in [2⁻¹⁶, 1): no clamping needed.
+    let g = |w: f64| w * (1.0 - w.ln());
     // Stored as 2¹⁶ − raw: g is in (0, 1] on the grid (raw ≥ 1), so the
     // complement fits 16 bits.
     let bits = |w: f64| 65536 - (g(w) * 65536.0).round().clamp(1.0, 65536.0) as i32;
@@ -122,6 +115,16 @@ fn chebyshev_fit(n: usize) -> (Vec<f64>, Vec<Vec<f64>>) {
     (nodes, a)
 }
 
+/// Writes the monomial coefficients `c_m = Σ_i a[m][i]·values[i]` of the
+/// polynomial interpolating `values` at the nodes of [`chebyshev_fit`]'s
+/// matrix `a`, as `f32` literals (`c_0, c_1, …, `).
+fn write_coefficients(out: &mut String, a: &[Vec<f64>], values: &[f64]) {
+    for row in a {
+        let c: f64 = row.iter().zip(values).map(|(a, y)| a * y).sum();
+        let _ = write!(out, "{:e}, ", c as f32);
+    }
+}
+
 /// Tables of the `f32` curves (`src/curves.rs`): ln m by segment for the
 /// presliding shape, and the fit matrix of the per-model Stribeck table.
 fn curve_tables() -> String {
@@ -143,10 +146,7 @@ fn curve_tables() -> String {
         let ln = |x: f64| (1.0 + (s as f64 + (x + 1.0) / 2.0) / LN_SEGMENTS as f64).ln();
         let values: Vec<f64> = nodes.iter().map(|&x| ln(x)).collect();
         out.push_str("    [");
-        for row in &a {
-            let c: f64 = row.iter().zip(&values).map(|(a, y)| a * y).sum();
-            let _ = write!(out, "{:e}, ", c as f32);
-        }
+        write_coefficients(&mut out, &a, &values);
         out.push_str("],\n");
     }
     out.push_str("];\n");
@@ -179,10 +179,7 @@ fn curve_tables() -> String {
             2f32.powi(3 - e),
             -(9.0 + 2.0 * j as f32)
         );
-        for fit in &a {
-            let c: f64 = fit.iter().zip(&values).map(|(a, y)| a * y).sum();
-            let _ = write!(out, "{:e}, ", c as f32);
-        }
+        write_coefficients(&mut out, &a, &values);
         out.push_str("0.0],\n");
     }
     out.push_str("];\n");

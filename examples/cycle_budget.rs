@@ -405,39 +405,29 @@ const DELTA_PASSES: [(&str, Pass); 3] = [
 // calls that follow to it. Each returns its δ through `black_box`, so that
 // the call is kept and no two markers have the same body (identical
 // functions could be folded into one symbol).
+macro_rules! delta_markers {
+    ($($marker:ident => $delta:literal),+ $(,)?) => {
+        $(
+            #[no_mangle]
+            #[inline(never)]
+            fn $marker() -> f32 {
+                black_box($delta)
+            }
+        )+
 
-#[no_mangle]
-#[inline(never)]
-fn profile_delta_1() -> f32 {
-    black_box(1.0)
+        /// The δ groups in the order they run, by marker: the Fig. 5
+        /// model's δ = 1 (every pass) first, then [`DELTA_PASSES`] at
+        /// δ = 0.7, 1.3 and 2.
+        const DELTAS: &[fn() -> f32] = &[$($marker),+];
+    };
 }
 
-#[no_mangle]
-#[inline(never)]
-fn profile_delta_0_7() -> f32 {
-    black_box(0.7)
+delta_markers! {
+    profile_delta_1 => 1.0,
+    profile_delta_0_7 => 0.7,
+    profile_delta_1_3 => 1.3,
+    profile_delta_2 => 2.0,
 }
-
-#[no_mangle]
-#[inline(never)]
-fn profile_delta_1_3() -> f32 {
-    black_box(1.3)
-}
-
-#[no_mangle]
-#[inline(never)]
-fn profile_delta_2() -> f32 {
-    black_box(2.0)
-}
-
-/// The δ groups in the order they run, by marker: the Fig. 5 model's δ = 1
-/// (every pass) first, then [`DELTA_PASSES`] at δ = 0.7, 1.3 and 2.
-const DELTAS: [fn() -> f32; 4] = [
-    profile_delta_1,
-    profile_delta_0_7,
-    profile_delta_1_3,
-    profile_delta_2,
-];
 
 /// The passes of the δ group `group` (an index into [`DELTAS`]).
 fn passes(group: usize) -> &'static [(&'static str, Pass)] {

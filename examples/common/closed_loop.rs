@@ -17,7 +17,7 @@
 //! <peak_reversal_error m> <rms_effort N>`.
 
 use breakaway::compensation::{ObserverConfig, StictionConfig, VelocityConfig, VelocityEstimator};
-use breakaway::{Model, Params, Presliding};
+use breakaway::{Model, Presliding};
 use cortex_m_semihosting::hprintln;
 
 pub const PERIOD: f32 = 1e-3;
@@ -38,17 +38,6 @@ pub const ADAPTATION_RATE: f32 = 1.0;
 pub const REVERSAL_GAIN: f32 = 0.3;
 const SUBSTEPS: u32 = 200;
 const VELOCITY_BANDWIDTH: f32 = 3000.0;
-
-/// The plant's parameters (`MODEL_PLANT` of the lab's benchmark).
-const PLANT: Params = Params {
-    fc: 1.25,
-    fs: 1.8,
-    v_stribeck: 1.3e-3,
-    delta: 1.0,
-    sigma: 0.0,
-    z_max: 1.3e-5,
-    epsilon: 0.0,
-};
 
 /// The disturbance observer of the benchmark's compensators.
 pub const OBSERVER: ObserverConfig = ObserverConfig {
@@ -147,7 +136,7 @@ pub fn run(
         None
     };
     let mut plant = Plant {
-        model: Model::new(PLANT).ok()?,
+        model: Model::new(crate::common::CLOSED_LOOP_PLANT).ok()?,
         friction: Presliding::at(0.0),
         x: 0.0,
         x_lo: 0.0,

@@ -830,11 +830,10 @@ pub fn run(
         let u = player.update(k, xe);
         out.u.push(u);
         out.x.push(y);
-        plant.interval(u, &mut diffs);
+        let v = plant.interval(u, &mut diffs);
         for (s, d) in sums.iter_mut().zip(&diffs) {
             *s += d * d;
         }
-        let v = plant.contact_velocity();
         out.v_max = out.v_max.max(v.abs());
         if !plant.finite() || v.abs() > v_lim || plant.encoder().abs() > 5.0 {
             return Err(Unstable(format!(

@@ -10,6 +10,7 @@
 //! Units: positions [m], velocities [m/s], forces [N], times [s], masses [kg].
 
 use serde::Serialize;
+use std::cmp::Ordering;
 
 /// One effect of the MODEL.md §5 catalogue (the dynamic ones; `stribeck` and
 /// `presliding` are part of the base model here).
@@ -206,6 +207,16 @@ pub fn stribeck(speed: f64, fc: f64, fs: f64, v_s: f64, delta: f64) -> f64 {
     fc + (fs - fc) * (-(r.powf(delta))).exp()
 }
 
+/// `sgn(v)` of MODEL.md: −1, 0 or +1 (0 for ±0 and NaN, unlike
+/// [`f64::signum`]).
+pub fn sgn(v: f64) -> f64 {
+    match v.partial_cmp(&0.0) {
+        Some(Ordering::Greater) => 1.0,
+        Some(Ordering::Less) => -1.0,
+        Some(Ordering::Equal) | None => 0.0,
+    }
+}
+
 /// The presliding shape `g(w) = w·(1 − ln w)` of MODEL.md §3, clamped to
 /// `g(0) = 0` and `g(w ≥ 1) = 1`.
 pub fn g(w: f64) -> f64 {
@@ -324,13 +335,7 @@ impl Model {
     /// constant-velocity run shows (levels at `t = 0`, no dwell, no lag; the
     /// ripple averages out over a run).
     pub fn steady(&self, v: f64) -> f64 {
-        let d = if v > 0.0 {
-            1.0
-        } else if v < 0.0 {
-            -1.0
-        } else {
-            0.0
-        };
+        let d = sgn(v);
         let mut f = d * self.s(v.abs(), d, 0.0, 0.0) + self.viscous_terms(v);
         if let Some(o) = self.e.offset {
             f += o.f0;

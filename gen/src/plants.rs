@@ -7,7 +7,7 @@
 //!
 //! Units: [m], [m/s], [N], [kg], [s].
 
-use crate::friction::{Effect, Model, ModelFriction};
+use crate::friction::{sgn, Effect, Model, ModelFriction};
 use serde::Serialize;
 
 /// Control (sampling) interval [s].
@@ -183,16 +183,6 @@ impl Law for ModelLaw {
     }
 }
 
-fn sgn(v: f64) -> f64 {
-    if v > 0.0 {
-        1.0
-    } else if v < 0.0 {
-        -1.0
-    } else {
-        0.0
-    }
-}
-
 /// One variant of an outside law (main model or main without one effect).
 #[derive(Clone, Debug)]
 struct OutVar {
@@ -204,51 +194,66 @@ struct OutVar {
     dry: f64,
 }
 
-fn out_vars(main: Model, hidden: &[Effect], n_states: usize) -> Vec<OutVar> {
-    let mut v = vec![OutVar {
-        model: main,
-        own: true,
-        z: vec![0.0; n_states],
-        dry: 0.0,
-    }];
-    for &e in hidden {
-        v.push(OutVar {
-            model: main.without(e),
-            own: e.changes_dry(),
-            z: vec![0.0; n_states],
-            dry: 0.0,
-        });
-    }
-    v
+/// The variants of an outside law along the motion (the main model first,
+/// then the main model without each hidden effect) and the direction of
+/// motion.
+struct OutVars {
+    vars: Vec<OutVar>,
+    /// Direction (−1, +1) of the latest nonzero velocity, 0 before any.
+    dir: f64,
 }
 
-/// One step of a law with internal states: the direction `dir` follows
-/// the velocity `v`, `dry(i, var, |v|, dir)` advances the states and the dry
-/// part of the main model (`i` = 0) and of each variant that has its own;
-/// returns the main model's force at `x` and writes the variants'
-/// differences to `diffs`.
-fn step_vars(
-    vars: &mut [OutVar],
-    dir: &mut f64,
-    x: f64,
-    v: f64,
-    diffs: Option<&mut [f64]>,
-    mut dry: impl FnMut(usize, &mut OutVar, f64, f64),
-) -> f64 {
-    if v != 0.0 {
-        *dir = sgn(v);
-    }
-    let speed = v.abs();
-    for (i, var) in vars.iter_mut().enumerate() {
-        if i > 0 && !var.own {
-            continue;
+impl OutVars {
+    /// Every variant with `n_states` internal states, relaxed.
+    fn new(main: Model, hidden: &[Effect], n_states: usize) -> Self {
+        let variant = |model, own| OutVar {
+            model,
+            own,
+            z: vec![0.0; n_states],
+            dry: 0.0,
+        };
+        let without = hidden
+            .iter()
+            .map(|&e| variant(main.without(e), e.changes_dry()));
+        OutVars {
+            vars: std::iter::once(variant(main, true))
+                .chain(without)
+                .collect(),
+            dir: 0.0,
         }
-        dry(i, var, speed, *dir);
     }
-    if let Some(d) = diffs {
-        out_diffs(vars, x, v, d);
+
+    /// The main model.
+    fn model(&self) -> &Model {
+        &self.vars[0].model
     }
-    vars[0].dry + vars[0].model.static_terms(x)
+
+    /// One step: the direction follows the velocity `v`, `dry(i, var, |v|,
+    /// dir)` advances the states and the dry part of the main model (`i` =
+    /// 0) and of each variant that has its own; returns the main model's
+    /// force at `x` and writes the variants' differences to `diffs`.
+    fn step(
+        &mut self,
+        x: f64,
+        v: f64,
+        diffs: Option<&mut [f64]>,
+        mut dry: impl FnMut(usize, &mut OutVar, f64, f64),
+    ) -> f64 {
+        if v != 0.0 {
+            self.dir = sgn(v);
+        }
+        let speed = v.abs();
+        for (i, var) in self.vars.iter_mut().enumerate() {
+            if i > 0 && !var.own {
+                continue;
+            }
+            dry(i, var, speed, self.dir);
+        }
+        if let Some(d) = diffs {
+            out_diffs(&self.vars, x, v, d);
+        }
+        self.vars[0].dry + self.vars[0].model.static_terms(x)
+    }
 }
 
 fn out_diffs(vars: &[OutVar], x: f64, v: f64, diffs: &mut [f64]) {
@@ -263,10 +268,9 @@ fn out_diffs(vars: &[OutVar], x: f64, v: f64, diffs: &mut [f64]) {
 
 /// LuGre friction with the §5 additive/scaling effects.
 pub struct LugreLaw {
-    vars: Vec<OutVar>,
+    vars: OutVars,
     sigma0: f64,
     sigma1: f64,
-    dir: f64,
     gross: bool,
 }
 
@@ -274,10 +278,9 @@ impl LugreLaw {
     /// Bristles relaxed (`z = 0`).
     pub fn new(model: Model, hidden: &[Effect], sigma0: f64, sigma1: f64) -> Self {
         LugreLaw {
-            vars: out_vars(model, hidden, 1),
+            vars: OutVars::new(model, hidden, 1),
             sigma0,
             sigma1,
-            dir: 0.0,
             gross: false,
         }
     }
@@ -287,29 +290,22 @@ impl Law for LugreLaw {
     fn step(&mut self, x: f64, v: f64, t: f64, h: f64, diffs: Option<&mut [f64]>) -> f64 {
         let (sigma0, sigma1) = (self.sigma0, self.sigma1);
         let mut gross = false;
-        let f = step_vars(
-            &mut self.vars,
-            &mut self.dir,
-            x,
-            v,
-            diffs,
-            |i, var, speed, dir| {
-                let s = var.model.s(speed, dir, t, 0.0);
-                let z = var.z[0];
-                let a = sigma0 * speed / s;
-                let z_new = if a * h < 1e-9 {
-                    z + v * h
-                } else {
-                    let z_eq = v / a;
-                    z_eq + (z - z_eq) * (-a * h).exp()
-                };
-                var.dry = sigma0 * z + sigma1 * (z_new - z) / h;
-                var.z[0] = z_new;
-                if i == 0 {
-                    gross = sigma0 * z_new.abs() > 0.95 * s;
-                }
-            },
-        );
+        let f = self.vars.step(x, v, diffs, |i, var, speed, dir| {
+            let s = var.model.s(speed, dir, t, 0.0);
+            let z = var.z[0];
+            let a = sigma0 * speed / s;
+            let z_new = if a * h < 1e-9 {
+                z + v * h
+            } else {
+                let z_eq = v / a;
+                z_eq + (z - z_eq) * (-a * h).exp()
+            };
+            var.dry = sigma0 * z + sigma1 * (z_new - z) / h;
+            var.z[0] = z_new;
+            if i == 0 {
+                gross = sigma0 * z_new.abs() > 0.95 * s;
+            }
+        });
         self.gross = gross;
         f
     }
@@ -317,7 +313,7 @@ impl Law for LugreLaw {
         self.gross
     }
     fn model(&self) -> &Model {
-        &self.vars[0].model
+        self.vars.model()
     }
     fn stiffness(&self) -> f64 {
         self.sigma0
@@ -326,11 +322,10 @@ impl Law for LugreLaw {
 
 /// Generalized Maxwell-slip friction with the §5 additive/scaling effects.
 pub struct MaxwellLaw {
-    vars: Vec<OutVar>,
+    vars: OutVars,
     k: Vec<f64>,
     w0: Vec<f64>,
     c: Vec<f64>,
-    dir: f64,
     all_slip: bool,
 }
 
@@ -338,11 +333,10 @@ impl MaxwellLaw {
     /// Elements relaxed. `k` [N/m], `w0` break forces at rest [N], `c` [N·s/m].
     pub fn new(model: Model, hidden: &[Effect], k: &[f64], w0: &[f64], c: &[f64]) -> Self {
         MaxwellLaw {
-            vars: out_vars(model, hidden, k.len()),
+            vars: OutVars::new(model, hidden, k.len()),
             k: k.to_vec(),
             w0: w0.to_vec(),
             c: c.to_vec(),
-            dir: 0.0,
             all_slip: false,
         }
     }
@@ -352,33 +346,26 @@ impl Law for MaxwellLaw {
     fn step(&mut self, x: f64, v: f64, t: f64, h: f64, diffs: Option<&mut [f64]>) -> f64 {
         let (k, w0, c) = (&self.k, &self.w0, &self.c);
         let mut all_slip = true;
-        let force = step_vars(
-            &mut self.vars,
-            &mut self.dir,
-            x,
-            v,
-            diffs,
-            |i, var, speed, dir| {
-                let scale = var.model.s(speed, dir, t, 0.0) / var.model.p.fs;
-                let mut f = 0.0;
-                for (j, z) in var.z.iter_mut().enumerate() {
-                    let zt = *z + v * h;
-                    let w = w0[j] * scale;
-                    let k = k[j];
-                    if (k * zt).abs() > w {
-                        *z = sgn(zt) * w / k;
-                    } else {
-                        *z = zt;
-                        f += c[j] * v;
-                        if i == 0 {
-                            all_slip = false;
-                        }
+        let force = self.vars.step(x, v, diffs, |i, var, speed, dir| {
+            let scale = var.model.s(speed, dir, t, 0.0) / var.model.p.fs;
+            let mut f = 0.0;
+            for (j, z) in var.z.iter_mut().enumerate() {
+                let zt = *z + v * h;
+                let w = w0[j] * scale;
+                let k = k[j];
+                if (k * zt).abs() > w {
+                    *z = sgn(zt) * w / k;
+                } else {
+                    *z = zt;
+                    f += c[j] * v;
+                    if i == 0 {
+                        all_slip = false;
                     }
-                    f += k * *z;
                 }
-                var.dry = f;
-            },
-        );
+                f += k * *z;
+            }
+            var.dry = f;
+        });
         self.all_slip = all_slip;
         force
     }
@@ -386,7 +373,7 @@ impl Law for MaxwellLaw {
         self.all_slip
     }
     fn model(&self) -> &Model {
-        &self.vars[0].model
+        self.vars.model()
     }
     fn stiffness(&self) -> f64 {
         self.k.iter().sum()
@@ -465,14 +452,13 @@ fn implicit_velocity(model: &Model, v: f64, vp: f64, h_over_m: f64) -> f64 {
 
 /// A plant integrated one control interval at a time.
 pub trait Plant: Send {
-    /// Integrates one control interval [`DT`] with the force `u` [N] held;
+    /// Integrates one control interval [`DT`] with the force `u` [N] held
+    /// and returns the velocity of the friction contact [m/s] at its end;
     /// `diffs[j]` receives the force [N] of hidden effect `j` at the start of
     /// the interval (the sample instant).
-    fn interval(&mut self, u: f64, diffs: &mut [f64]);
+    fn interval(&mut self, u: f64, diffs: &mut [f64]) -> f64;
     /// The position the encoder reads [m] (true, not quantised).
     fn encoder(&self) -> f64;
-    /// The velocity of the friction contact [m/s].
-    fn contact_velocity(&self) -> f64;
     /// True while the state is finite.
     fn finite(&self) -> bool;
 }
@@ -496,30 +482,26 @@ pub struct MassPlant<L: Law> {
     /// Velocity [m/s].
     pub v: f64,
     mass: f64,
-    sample: u64,
-    small: u32,
-    acc: f64,
+    sub_steps: SubSteps,
 }
 
 impl<L: Law> MassPlant<L> {
     /// At rest at `x0` [m].
     pub fn new(law: L, x0: f64) -> Self {
         let mass = law.model().p.mass;
-        let small = small_ticks(law.stiffness(), mass);
+        let sub_steps = SubSteps::new(small_ticks(law.stiffness(), mass));
         MassPlant {
             law,
             x: x0,
             v: 0.0,
             mass,
-            sample: 0,
-            small,
-            acc: 0.0,
+            sub_steps,
         }
     }
 
     /// Time of the start of the next interval [s].
     pub fn time(&self) -> f64 {
-        self.sample as f64 * DT
+        self.sub_steps.sample as f64 * DT
     }
 }
 
@@ -528,54 +510,77 @@ fn big_allowed(gross: bool, v: f64, acc: f64, v_s: f64) -> bool {
     gross && v.abs() > 3.0 * v_s && h * acc < 0.2 * v.abs()
 }
 
-/// The sub-steps of the interval after sample `sample`: `step(t, h,
-/// diffs)` advances a plant from time `t` [s] by `h` [s] (`diffs` on the
-/// first only) and tells whether the next may be a big one (`big` for the
-/// first); the others are `small` ticks.
-fn sub_steps(
+/// The sub-step schedule every plant shares: big steps in fast gross
+/// sliding of the friction contact, `small` ticks otherwise.
+struct SubSteps {
+    /// Control intervals integrated so far.
     sample: u64,
+    /// Ticks of a small step.
     small: u32,
-    mut big: bool,
-    diffs: &mut [f64],
-    mut step: impl FnMut(f64, f64, Option<&mut [f64]>) -> bool,
-) {
-    let mut tick = 0u32;
-    let t0 = sample as f64 * DT;
-    while tick < TICKS_PER_SAMPLE {
-        let left = TICKS_PER_SAMPLE - tick;
-        let n = if big {
-            BIG_STEP.min(left)
-        } else {
-            small.min(left)
-        };
-        let h = f64::from(n) * TICK;
-        let t = t0 + f64::from(tick) * TICK;
-        let d = if tick == 0 { Some(&mut *diffs) } else { None };
-        big = step(t, h, d);
-        tick += n;
+    /// `|dv/dt|` of the friction contact over the last sub-step [m/s²].
+    acc: f64,
+}
+
+impl SubSteps {
+    fn new(small: u32) -> Self {
+        SubSteps {
+            sample: 0,
+            small,
+            acc: 0.0,
+        }
+    }
+
+    /// Integrates the next control interval of a plant whose friction
+    /// contact moves at `v` [m/s]: `step(law, t, h, diffs)` advances the
+    /// plant from time `t` [s] by `h` [s] (`diffs` on the first sub-step
+    /// only) and returns the contact's new velocity [m/s] and `|dv/dt|`
+    /// [m/s²], which decide whether the next sub-step may be a big one.
+    /// Returns the contact's velocity at the end of the interval.
+    fn interval<L: Law>(
+        &mut self,
+        law: &mut L,
+        mut v: f64,
+        diffs: &mut [f64],
+        mut step: impl FnMut(&mut L, f64, f64, Option<&mut [f64]>) -> (f64, f64),
+    ) -> f64 {
+        let v_s = law.model().p.v_stribeck;
+        let mut big = big_allowed(law.gross(), v, self.acc, v_s);
+        let mut tick = 0u32;
+        let t0 = self.sample as f64 * DT;
+        while tick < TICKS_PER_SAMPLE {
+            let left = TICKS_PER_SAMPLE - tick;
+            let n = if big {
+                BIG_STEP.min(left)
+            } else {
+                self.small.min(left)
+            };
+            let h = f64::from(n) * TICK;
+            let t = t0 + f64::from(tick) * TICK;
+            let d = if tick == 0 { Some(&mut *diffs) } else { None };
+            (v, self.acc) = step(law, t, h, d);
+            big = big_allowed(law.gross(), v, self.acc, v_s);
+            tick += n;
+        }
+        self.sample += 1;
+        v
     }
 }
 
 impl<L: Law> Plant for MassPlant<L> {
-    fn interval(&mut self, u: f64, diffs: &mut [f64]) {
-        let v_s = self.law.model().p.v_stribeck;
-        let big = big_allowed(self.law.gross(), self.v, self.acc, v_s);
-        sub_steps(self.sample, self.small, big, diffs, |t, h, d| {
-            let f = self.law.step(self.x, self.v, t, h, d);
-            let vp = self.v + h * (u - f) / self.mass;
-            let v_new = implicit_velocity(self.law.model(), self.v, vp, h / self.mass);
-            self.acc = ((v_new - self.v) / h).abs();
-            self.v = v_new;
-            self.x += h * v_new;
-            big_allowed(self.law.gross(), self.v, self.acc, v_s)
-        });
-        self.sample += 1;
+    fn interval(&mut self, u: f64, diffs: &mut [f64]) -> f64 {
+        self.sub_steps
+            .interval(&mut self.law, self.v, diffs, |law, t, h, d| {
+                let f = law.step(self.x, self.v, t, h, d);
+                let vp = self.v + h * (u - f) / self.mass;
+                let v_new = implicit_velocity(law.model(), self.v, vp, h / self.mass);
+                let acc = ((v_new - self.v) / h).abs();
+                self.v = v_new;
+                self.x += h * v_new;
+                (v_new, acc)
+            })
     }
     fn encoder(&self) -> f64 {
         self.x
-    }
-    fn contact_velocity(&self) -> f64 {
-        self.v
     }
     fn finite(&self) -> bool {
         self.x.is_finite() && self.v.is_finite()
@@ -595,15 +600,13 @@ pub struct TwoMassPlant<L: Law> {
     m2: f64,
     k: f64,
     c: f64,
-    sample: u64,
-    small: u32,
-    acc: f64,
+    sub_steps: SubSteps,
 }
 
 impl<L: Law> TwoMassPlant<L> {
     /// At rest, spring relaxed, both at `x0` [m].
     pub fn new(law: L, x0: f64, m1: f64, m2: f64, k: f64, c: f64) -> Self {
-        let small = small_ticks(law.stiffness(), m2);
+        let sub_steps = SubSteps::new(small_ticks(law.stiffness(), m2));
         TwoMassPlant {
             law,
             x1: x0,
@@ -614,36 +617,29 @@ impl<L: Law> TwoMassPlant<L> {
             m2,
             k,
             c,
-            sample: 0,
-            small,
-            acc: 0.0,
+            sub_steps,
         }
     }
 }
 
 impl<L: Law> Plant for TwoMassPlant<L> {
-    fn interval(&mut self, u: f64, diffs: &mut [f64]) {
-        let v_s = self.law.model().p.v_stribeck;
-        let big = big_allowed(self.law.gross(), self.v2, self.acc, v_s);
-        sub_steps(self.sample, self.small, big, diffs, |t, h, d| {
-            let f = self.law.step(self.x2, self.v2, t, h, d);
-            let fsp = self.k * (self.x1 - self.x2) + self.c * (self.v1 - self.v2);
-            self.v1 += h * (u - fsp) / self.m1;
-            let vp = self.v2 + h * (fsp - f) / self.m2;
-            let v2 = implicit_velocity(self.law.model(), self.v2, vp, h / self.m2);
-            self.acc = ((v2 - self.v2) / h).abs();
-            self.v2 = v2;
-            self.x1 += h * self.v1;
-            self.x2 += h * self.v2;
-            big_allowed(self.law.gross(), self.v2, self.acc, v_s)
-        });
-        self.sample += 1;
+    fn interval(&mut self, u: f64, diffs: &mut [f64]) -> f64 {
+        self.sub_steps
+            .interval(&mut self.law, self.v2, diffs, |law, t, h, d| {
+                let f = law.step(self.x2, self.v2, t, h, d);
+                let fsp = self.k * (self.x1 - self.x2) + self.c * (self.v1 - self.v2);
+                self.v1 += h * (u - fsp) / self.m1;
+                let vp = self.v2 + h * (fsp - f) / self.m2;
+                let v2 = implicit_velocity(law.model(), self.v2, vp, h / self.m2);
+                let acc = ((v2 - self.v2) / h).abs();
+                self.v2 = v2;
+                self.x1 += h * self.v1;
+                self.x2 += h * self.v2;
+                (v2, acc)
+            })
     }
     fn encoder(&self) -> f64 {
         self.x1
-    }
-    fn contact_velocity(&self) -> f64 {
-        self.v2
     }
     fn finite(&self) -> bool {
         self.x1.is_finite() && self.v1.is_finite() && self.x2.is_finite() && self.v2.is_finite()

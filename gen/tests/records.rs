@@ -265,21 +265,21 @@ fn truth_files_follow_model_md() {
     assert!(first.contains("visibility: "));
     let v: toml::Value = toml::from_str(&text).unwrap();
     let t = v.as_table().unwrap();
-    let keys: Vec<&str> = t.keys().map(String::as_str).collect();
-    for k in [
-        "mass",
+    let mut keys: Vec<&str> = t.keys().map(String::as_str).collect();
+    keys.sort_unstable();
+    // Exactly the §7 keys, sorted.
+    let expected = [
+        "delta",
+        "effects",
+        "epsilon",
         "fc",
         "fs",
-        "v_stribeck",
-        "delta",
+        "mass",
         "sigma",
+        "v_stribeck",
         "z_max",
-        "epsilon",
-        "effects",
-    ] {
-        assert!(keys.contains(&k), "missing {k}");
-    }
-    assert_eq!(keys.len(), 9);
+    ];
+    assert_eq!(keys, expected);
     let eff = t["effects"].as_table().unwrap();
     assert_eq!(eff.len(), 2);
     let dw = eff["dwell_stiction"].as_table().unwrap();

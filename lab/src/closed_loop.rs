@@ -116,29 +116,18 @@ pub fn gains() -> (f64, f64, f64) {
     )
 }
 
+// The parameter sets of the benchmark, shared with the firmware example
+// `closed_loop` and the library's tests.
+#[path = "../../tests/support/mod.rs"]
+mod support;
+
 /// The compensator's parameters for the MODEL.md plant (the paper's Fig. 5
 /// setting).
-pub const MODEL_COMPENSATOR: breakaway::Params = breakaway::Params {
-    fc: 1.0,
-    fs: 1.5,
-    v_stribeck: 1e-3,
-    delta: 1.0,
-    sigma: 0.0,
-    z_max: 1e-5,
-    epsilon: 0.0,
-};
+pub const MODEL_COMPENSATOR: breakaway::Params = support::FIG5;
 
 /// The MODEL.md plant: Fc +25 %, Fs +20 %, V +30 %, z_max +30 % against
 /// [`MODEL_COMPENSATOR`].
-pub const MODEL_PLANT: breakaway::Params = breakaway::Params {
-    fc: 1.25,
-    fs: 1.8,
-    v_stribeck: 1.3e-3,
-    delta: 1.0,
-    sigma: 0.0,
-    z_max: 1.3e-5,
-    epsilon: 0.0,
-};
+pub const MODEL_PLANT: breakaway::Params = support::CLOSED_LOOP_PLANT;
 
 /// The friction feedforward of a compensator.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

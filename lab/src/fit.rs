@@ -154,13 +154,7 @@ pub fn mass_and_coulomb(p: &Prepared, fast: &[usize]) -> Option<(f64, f64)> {
 /// most [`MAX_QUANTISATION_RATIO`] times the filtered force noise.
 fn quantisation_window(rec: &crate::data::Record) -> usize {
     let p = Prepared::new(rec, DEFAULT_HALF_WIDTH);
-    let mut speeds: Vec<f64> = p
-        .valid()
-        .filter(|&i| !p.still[i])
-        .map(|i| p.v[i].abs())
-        .collect();
-    speeds.sort_by(f64::total_cmp);
-    let Some(&v_med) = speeds.get(speeds.len() / 2) else {
+    let Some(v_med) = p.median_moving_speed() else {
         return AUTO_HALF_WIDTH;
     };
     let fast: Vec<usize> = p
@@ -538,6 +532,18 @@ impl Prepared {
         k..self.len().saturating_sub(k)
     }
 
+    /// Median `|v̂|` [m/s] of the valid samples that move (not still), or
+    /// `None` when none does.
+    pub fn median_moving_speed(&self) -> Option<f64> {
+        let mut speeds: Vec<f64> = self
+            .valid()
+            .filter(|&i| !self.still[i])
+            .map(|i| self.v[i].abs())
+            .collect();
+        speeds.sort_by(f64::total_cmp);
+        speeds.get(speeds.len() / 2).copied()
+    }
+
     fn set_split(&mut self) {
         let n = self.len();
         let (t0, t1) = (self.t[0], self.t[n - 1]);
@@ -625,13 +631,7 @@ impl Prepared {
                 }
             }
         }
-        let mut speeds: Vec<f64> = self
-            .valid()
-            .filter(|&i| !self.still[i])
-            .map(|i| self.v[i].abs())
-            .collect();
-        speeds.sort_by(f64::total_cmp);
-        let fast = speeds.get(speeds.len() / 2).copied().unwrap_or(0.0);
+        let fast = self.median_moving_speed().unwrap_or(0.0);
         let pairs = |straight: bool| -> Vec<f64> {
             let mut d: Vec<f64> = self
                 .valid()

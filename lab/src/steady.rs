@@ -180,19 +180,26 @@ pub fn fit_steady(rec: &SteadyRecord, m0: &Model) -> Model {
 /// Without a Stribeck dip (`Fs = Fc` up to 0.1 %) `V` and `δ` have no
 /// effect; they are written as neutral, physical values (the median speed,
 /// δ = 1), never as what the fit left.
-fn tidy(rec: &SteadyRecord, mut m: Model) -> Model {
+fn tidy(rec: &SteadyRecord, m: Model) -> Model {
     if m.fs - m.fc <= 1e-3 * m.fc {
+        without(rec, &m, Effect::Stribeck)
+    } else {
+        m
+    }
+}
+
+/// `m` without `effect`; without `stribeck`, V is the median speed of the
+/// record [m/s] (1 where that is 0).
+fn without(rec: &SteadyRecord, m: &Model, effect: Effect) -> Model {
+    diagnose::without_effect(m, effect, || {
         let mut speeds: Vec<f64> = rec.points.iter().map(|p| p.v.abs()).collect();
         speeds.sort_by(f64::total_cmp);
-        m.fs = m.fc;
-        m.v_stribeck = speeds
+        speeds
             .get(speeds.len() / 2)
             .copied()
             .filter(|v| *v > 0.0)
-            .unwrap_or(1.0);
-        m.delta = 1.0;
-    }
-    m
+            .unwrap_or(1.0)
+    })
 }
 
 /// The base curve (Fc, Fs, V, δ; no effects), from a grid over `V` and
@@ -443,7 +450,7 @@ fn select(rec: &SteadyRecord, mut model: Model, allowed: &[Effect]) -> Selection
     let mut k = 0;
     while k < steps.len() {
         let effect = steps[k].effect;
-        let refit = fit_steady(rec, &cleared(&model, effect));
+        let refit = fit_steady(rec, &without(rec, &model, effect));
         let without = rec.rms(&refit, true);
         if rms > (1.0 - required_gain(effect)) * without || without <= NOISE_FACTOR * noise {
             steps.remove(k);
@@ -475,25 +482,6 @@ struct Selection {
     rejected: Vec<(Effect, f64, f64)>,
     pruned: Vec<Effect>,
     model: Model,
-}
-
-/// `m` without `effect` (the steady-state candidates; the other parts are
-/// not added by the loop).
-fn cleared(m: &Model, effect: Effect) -> Model {
-    let mut c = m.clone();
-    match effect {
-        Effect::Viscous => c.sigma = 0.0,
-        Effect::NonlinearViscous => c.effects.nonlinear_viscous = None,
-        Effect::Offset => c.effects.offset = None,
-        Effect::Asymmetry => c.effects.asymmetry = None,
-        Effect::PositionRipple
-        | Effect::DwellStiction
-        | Effect::FrictionalLag
-        | Effect::Drift
-        | Effect::Stribeck
-        | Effect::Presliding => {}
-    }
-    c
 }
 
 /// The name → add → shrink loop on a steady-state record, over the
@@ -593,17 +581,8 @@ pub fn report_json(rep: &SteadyReport) -> String {
         .steps
         .iter()
         .map(|s| {
-            let candidates = s
-                .candidates
-                .iter()
-                .map(|c| diagnose::candidate_json(c.0, c.1, c.2))
-                .collect();
-            diagnose::step_json(
-                s.effect,
-                &s.model,
-                (s.rms_before, s.rms_after, s.score),
-                candidates,
-            )
+            let scores = (s.rms_before, s.rms_after, s.score);
+            diagnose::step_json(s.effect, &s.model, scores, s.candidates.iter().copied())
         })
         .collect();
     let v = json!({
@@ -614,7 +593,7 @@ pub fn report_json(rep: &SteadyReport) -> String {
         "rms_after": rep.rms_after,
         "floor": rep.noise,
         "steps": steps,
-        "rejected": rep.rejected.iter().map(|c| diagnose::candidate_json(c.0, c.1, c.2)).collect::<Vec<_>>(),
+        "rejected": diagnose::candidates_json(rep.rejected.iter().copied()),
         "dropped": rep.dropped.iter().map(|(n, why)| json!({"part": n.name(), "reason": why})).collect::<Vec<_>>(),
         "pruned": rep.pruned.iter().map(|e| e.name()).collect::<Vec<_>>(),
         "start_model": diagnose::model_json(&rep.start),

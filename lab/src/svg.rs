@@ -52,12 +52,16 @@ pub struct Panel {
     pub series: Vec<Series>,
 }
 
+/// Width and height of a panel [px].
 const W: f64 = 900.0;
 const H: f64 = 260.0;
+/// Left and top margin of the plot area [px] (the y tick labels, the title).
 const ML: f64 = 70.0;
-const MR: f64 = 20.0;
 const MT: f64 = 30.0;
-const MB: f64 = 30.0;
+/// Width and height of the plot area [px]: 20 px are left on its right,
+/// 30 px below it (the x tick labels).
+const PW: f64 = W - ML - 20.0;
+const PH: f64 = H - MT - 30.0;
 
 fn esc(s: &str) -> String {
     s.replace('&', "&amp;")
@@ -98,13 +102,11 @@ pub fn render(panels: &[Panel]) -> String {
         if yb <= ya {
             yb = ya + 1.0;
         }
-        let pw = W - ML - MR;
-        let ph = H - MT - MB;
-        let sx = |x: f64| ML + (x - x0) / (x1 - x0) * pw;
-        let sy = |y: f64| y0 + MT + (yb - y) / (yb - ya) * ph;
+        let sx = |x: f64| ML + (x - x0) / (x1 - x0) * PW;
+        let sy = |y: f64| y0 + MT + (yb - y) / (yb - ya) * PH;
         let _ = writeln!(
             s,
-            "<text x=\"{ML}\" y=\"{:.1}\">{}</text>\n<rect x=\"{ML}\" y=\"{:.1}\" width=\"{pw}\" height=\"{ph}\" fill=\"none\" stroke=\"#999\"/>",
+            "<text x=\"{ML}\" y=\"{:.1}\">{}</text>\n<rect x=\"{ML}\" y=\"{:.1}\" width=\"{PW}\" height=\"{PH}\" fill=\"none\" stroke=\"#999\"/>",
             y0 + 18.0,
             esc(&p.title),
             y0 + MT
@@ -122,7 +124,7 @@ pub fn render(panels: &[Panel]) -> String {
             let _ = writeln!(
                 s,
                 "<line x1=\"{ML}\" x2=\"{:.1}\" y1=\"{:.1}\" y2=\"{:.1}\" stroke=\"#ccc\"/>",
-                ML + pw,
+                ML + PW,
                 sy(0.0),
                 sy(0.0)
             );

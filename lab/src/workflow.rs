@@ -177,14 +177,8 @@ pub fn fit(args: FitArgs, out: &mut dyn Write) -> Result<(), Error> {
 
 /// `validate`: the metric of a fixed model on the data.
 pub fn validate(args: ValidateArgs, out: &mut dyn Write) -> Result<(), Error> {
-    let ValidateArgs {
-        data,
-        model,
-        json,
-        window: WindowArg { half_width: window },
-    } = args;
-    let (rec, window) = load_data(&data, window)?;
-    let m = load_model(&model)?;
+    let (rec, window) = load_data(&args.data, args.window.half_width)?;
+    let m = load_model(&args.model)?;
     let mut p = Prepared::with_window(&rec, window);
     // The weights come from the data's base model, not from the
     // model under test: two models validated on one record are
@@ -198,7 +192,7 @@ pub fn validate(args: ValidateArgs, out: &mut dyn Write) -> Result<(), Error> {
     let gap = fit::model_error(all, floor);
     let labels = diagnose::regimes(&p, &m);
     let stats = diagnose::regime_stats(&p, &r, &labels);
-    let text = if json {
+    let text = if args.json {
         let v = serde_json::json!({
             "metric": "weighted RMS [N] of the force residual along the measured motion over all samples (see diagnose)",
             "rms": all,
@@ -210,8 +204,8 @@ pub fn validate(args: ValidateArgs, out: &mut dyn Write) -> Result<(), Error> {
     } else {
         let mut s = format!(
             "{} with {}: rms {} N (weighted, all samples); noise and resolution {} N; model error {} N\n",
-            data.display(),
-            model.display(),
+            args.data.display(),
+            args.model.display(),
             crate::format::short(all, 4),
             crate::format::short(floor, 4),
             crate::format::short(gap, 4)

@@ -10,6 +10,25 @@ fn stdout(o: &Output) -> String {
     String::from_utf8(o.stdout.clone()).unwrap()
 }
 
+/// Runs `command --model <fig5.toml> ARGS --json`, asserts success and
+/// returns the rows of the JSON array it prints.
+fn fig5_json(command: &str, args: &[&str]) -> Vec<serde_json::Value> {
+    let model = fig5();
+    let mut argv = vec![command, "--model", &model];
+    argv.extend_from_slice(args);
+    argv.push("--json");
+    let o = run(&argv);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    serde_json::from_str(&stdout(&o)).unwrap()
+}
+
+/// Asserts that the JSON object `row` has every key of `keys`.
+fn assert_keys(row: &serde_json::Value, keys: &[&str]) {
+    for key in keys {
+        assert!(row.get(key).is_some(), "missing {key}");
+    }
+}
+
 /// Asserts a failure with exit `code` and exactly one stderr line
 /// `error: …` containing every needle; returns the line.
 fn fails(args: &[&str], code: i32, needles: &[&str]) -> String {
@@ -30,19 +49,9 @@ const GOOD: &str = "mass = 1.0\nfc = 1.0\nfs = 1.5\nv_stribeck = 1e-3\ndelta = 1
 
 #[test]
 fn json_keys_and_rows() {
-    let o = run(&[
-        "breakaway",
-        "--model",
-        &fig5(),
-        "--k",
-        "0.01,1:3:1",
-        "--json",
-    ]);
-    assert!(o.status.success());
-    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
-    let rows = v.as_array().unwrap();
+    let rows = fig5_json("breakaway", &["--k", "0.01,1:3:1"]);
     assert_eq!(rows.len(), 4 * 4);
-    for r in rows {
+    for r in &rows {
         let obj = r.as_object().unwrap();
         let mut keys: Vec<&str> = obj.keys().map(String::as_str).collect();
         keys.sort_unstable();
@@ -61,27 +70,14 @@ fn json_keys_and_rows() {
 
 #[test]
 fn json_dynamic_keys() {
-    let o = run(&[
-        "breakaway",
-        "--model",
-        &fig5(),
-        "--k",
-        "1,3",
-        "--json",
-        "--dynamic",
-        "--variant",
-        "mean,consistent",
-    ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
-    let rows = v.as_array().unwrap();
+    let args = ["--k", "1,3", "--dynamic", "--variant", "mean,consistent"];
+    let rows = fig5_json("breakaway", &args);
     assert_eq!(rows.len(), 4);
-    for r in rows {
-        for key in [
+    for r in &rows {
+        let keys = [
             "variant", "k", "v_b", "f_ba", "t_ba", "f_ba_sim", "t_ba_sim",
-        ] {
-            assert!(r.get(key).is_some(), "missing {key}");
-        }
+        ];
+        assert_keys(r, &keys);
         assert!(r["f_ba_sim"].as_f64().unwrap() > 0.0);
     }
     // The same simulation for every variant at the same k.
@@ -114,24 +110,13 @@ fn table_has_header_and_rows() {
 
 #[test]
 fn validity_map_json() {
-    let o = run(&[
-        "validity-map",
-        "--model",
-        &fig5(),
-        "--masses",
-        "0.1,1",
-        "--k",
-        "0.1,1",
-        "--json",
-    ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
-    let rows = v.as_array().unwrap();
+    let rows = fig5_json("validity-map", &["--masses", "0.1,1", "--k", "0.1,1"]);
     assert_eq!(rows.len(), 4);
-    for r in rows {
-        for key in ["m", "pi", "k", "lambda", "f_ba_sim", "t_ba_sim", "variants"] {
-            assert!(r.get(key).is_some(), "missing {key}");
-        }
+    for r in &rows {
+        assert_keys(
+            r,
+            &["m", "pi", "k", "lambda", "f_ba_sim", "t_ba_sim", "variants"],
+        );
         for var in ["mean", "consistent"] {
             assert!(r["variants"][var]["f_ba"].as_f64().is_some());
             assert!(r["variants"][var]["drift"].as_f64().is_some());
@@ -219,41 +204,29 @@ fn missing_model_file_names_it() {
 
 #[test]
 fn invalid_model_files_name_the_key() {
-    let unknown = temp_model("unknown_key.toml", &format!("{GOOD}fcc = 2.0\n"));
-    fails(&["breakaway", "--model", &unknown, "--k", "1"], 1, &["fcc"]);
-    let bad = temp_model("bad_fs.toml", &GOOD.replace("fs = 1.5", "fs = 0.5"));
-    fails(&["breakaway", "--model", &bad, "--k", "1"], 1, &["fs"]);
-    let nan = temp_model(
-        "bad_v.toml",
-        &GOOD.replace("v_stribeck = 1e-3", "v_stribeck = -1e-3"),
-    );
-    fails(
-        &["breakaway", "--model", &nan, "--k", "1"],
-        1,
-        &["v_stribeck"],
-    );
-    let syntax = temp_model("syntax.toml", "fc = = 1\n");
-    fails(
-        &["breakaway", "--model", &syntax, "--k", "1"],
-        1,
-        &["syntax.toml"],
-    );
-    let no_presliding = temp_model(
-        "no_presliding.toml",
-        &GOOD.replace("z_max = 1e-5", "z_max = 0.0"),
-    );
-    fails(
-        &["breakaway", "--model", &no_presliding, "--k", "1"],
-        1,
-        &["z_max"],
-    );
-    let effect = temp_model(
-        "bad_effect.toml",
-        &format!("{GOOD}[effects.asymmetry]\na = 1.5\n"),
-    );
-    fails(
-        &["breakaway", "--model", &effect, "--k", "1"],
-        1,
-        &["asymmetry"],
-    );
+    // (file, text, what the error names)
+    let cases = [
+        ("unknown_key.toml", format!("{GOOD}fcc = 2.0\n"), "fcc"),
+        ("bad_fs.toml", GOOD.replace("fs = 1.5", "fs = 0.5"), "fs"),
+        (
+            "bad_v.toml",
+            GOOD.replace("v_stribeck = 1e-3", "v_stribeck = -1e-3"),
+            "v_stribeck",
+        ),
+        ("syntax.toml", "fc = = 1\n".to_string(), "syntax.toml"),
+        (
+            "no_presliding.toml",
+            GOOD.replace("z_max = 1e-5", "z_max = 0.0"),
+            "z_max",
+        ),
+        (
+            "bad_effect.toml",
+            format!("{GOOD}[effects.asymmetry]\na = 1.5\n"),
+            "asymmetry",
+        ),
+    ];
+    for (file, text, needle) in cases {
+        let model = temp_model(file, &text);
+        fails(&["breakaway", "--model", &model, "--k", "1"], 1, &[needle]);
+    }
 }

@@ -77,6 +77,20 @@ impl fmt::Display for Effect {
     }
 }
 
+impl FromStr for Effect {
+    type Err = UnknownEffect;
+
+    /// The effect named exactly `s` (the identifiers of MODEL.md §5).
+    fn from_str(s: &str) -> Result<Effect, UnknownEffect> {
+        Effect::ALL
+            .into_iter()
+            .find(|e| e.name() == s)
+            .ok_or_else(|| UnknownEffect {
+                name: s.to_string(),
+            })
+    }
+}
+
 /// A name that is not in the catalogue of MODEL.md §5.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct UnknownEffect {
@@ -99,20 +113,6 @@ impl fmt::Display for UnknownEffect {
 }
 
 impl std::error::Error for UnknownEffect {}
-
-impl FromStr for Effect {
-    type Err = UnknownEffect;
-
-    /// The effect named exactly `s` (the identifiers of MODEL.md §5).
-    fn from_str(s: &str) -> Result<Effect, UnknownEffect> {
-        Effect::ALL
-            .into_iter()
-            .find(|e| e.name() == s)
-            .ok_or_else(|| UnknownEffect {
-                name: s.to_string(),
-            })
-    }
-}
 
 #[cfg(test)]
 mod tests {

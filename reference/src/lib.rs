@@ -30,14 +30,14 @@ pub use curves::{shape, steady_state, stribeck, stribeck_decay};
 pub use effect::{Effect, UnknownEffect};
 pub use friction::{Friction, SampleTerms};
 pub use model::{
-    Asymmetry, Drift, DwellStiction, Effects, FrictionalLag, Model, ModelError, NonlinearViscous,
-    Offset, PositionRipple,
+    ArgumentError, Asymmetry, Drift, DwellStiction, Effects, FrictionalLag, Model, ModelError,
+    NonlinearViscous, Offset, PositionRipple,
 };
 pub use predict::{
     consistent_root, phase_velocity, predict_break_away, BreakAway, PredictError, Variant,
 };
 pub use presliding::Presliding;
 pub use sim::{
-    simulate, simulate_break_away, simulate_break_away_with, simulate_with, DynamicBreakAway,
-    Sample, SimError, SimOptions,
+    simulate, simulate_break_away, simulate_break_away_with, DynamicBreakAway, Sample, SimError,
+    SimOptions,
 };

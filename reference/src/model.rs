@@ -178,6 +178,43 @@ impl fmt::Display for ModelError {
 
 impl std::error::Error for ModelError {}
 
+/// An argument of a computation out of range (or a model number it needs
+/// beyond [`Model::validate`], such as `z_max > 0`); the error of the
+/// predictor and of the simulator alike.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ArgumentError {
+    /// Name of the argument (`k`, `w_b`, `z_max`, `t_end`, ...).
+    pub name: &'static str,
+    /// The value given.
+    pub value: f64,
+    /// The requirement, e.g. `0 < w_b < 1`.
+    pub requirement: &'static str,
+}
+
+impl ArgumentError {
+    /// `name` = `value` fails `requirement`.
+    pub fn new(name: &'static str, value: f64, requirement: &'static str) -> Self {
+        ArgumentError {
+            name,
+            value,
+            requirement,
+        }
+    }
+}
+
+impl fmt::Display for ArgumentError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let ArgumentError {
+            name,
+            value,
+            requirement,
+        } = self;
+        write!(f, "{name}: requires {requirement}, got {value:?}")
+    }
+}
+
+impl std::error::Error for ArgumentError {}
+
 /// One numeric rule of §2/§3/§5.
 #[derive(Clone, Copy)]
 enum Rule {

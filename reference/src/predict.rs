@@ -21,7 +21,7 @@
 //! bracket runs to adjacent floats (≈ 1e-16 relative).
 
 use crate::curves::{shape, stribeck};
-use crate::model::{Model, ModelError};
+use crate::model::{ArgumentError, Model, ModelError};
 use std::fmt;
 
 /// The choice of `F̂` in the phase velocity (MODEL.md §4).
@@ -37,24 +37,18 @@ pub enum Variant {
     Consistent,
 }
 
+/// The identifiers of the variants, in declaration order (indexed by the
+/// variant).
+const NAMES: [&str; 4] = ["coulomb", "stiction", "mean", "consistent"];
+
 impl Variant {
     /// All variants, in the order of MODEL.md §4.
-    pub const ALL: [Variant; 4] = [
-        Variant::Coulomb,
-        Variant::Stiction,
-        Variant::Mean,
-        Variant::Consistent,
-    ];
+    pub const ALL: [Variant; 4] = [Self::Coulomb, Self::Stiction, Self::Mean, Self::Consistent];
 
     /// The identifier used in reports and files: `coulomb`, `stiction`,
     /// `mean`, `consistent`.
     pub fn name(self) -> &'static str {
-        match self {
-            Variant::Coulomb => "coulomb",
-            Variant::Stiction => "stiction",
-            Variant::Mean => "mean",
-            Variant::Consistent => "consistent",
-        }
+        NAMES[self as usize]
     }
 
     /// Parses an identifier as written by [`Variant::name`] (exact match).
@@ -84,14 +78,7 @@ pub struct BreakAway {
 #[derive(Clone, Debug, PartialEq)]
 pub enum PredictError {
     /// An argument (`k`, `w_b`, `w`) or the model's `z_max` is out of range.
-    Argument {
-        /// Name of the argument.
-        name: &'static str,
-        /// The value given.
-        value: f64,
-        /// The requirement, e.g. `0 < w_b < 1`.
-        requirement: &'static str,
-    },
+    Argument(ArgumentError),
     /// The model fails [`Model::validate`].
     Model(ModelError),
 }
@@ -99,11 +86,7 @@ pub enum PredictError {
 impl fmt::Display for PredictError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            PredictError::Argument {
-                name,
-                value,
-                requirement,
-            } => write!(f, "{name}: requires {requirement}, got {value:?}"),
+            PredictError::Argument(e) => e.fmt(f),
             PredictError::Model(e) => write!(f, "invalid model: {e}"),
         }
     }
@@ -111,34 +94,29 @@ impl fmt::Display for PredictError {
 
 impl std::error::Error for PredictError {}
 
+impl From<ArgumentError> for PredictError {
+    fn from(e: ArgumentError) -> Self {
+        PredictError::Argument(e)
+    }
+}
+
 /// Checks the model, `k` and `w` (named `w_name`) and returns
 /// `c = −k·z_max/ln w` [m·N/s].
 fn rate_constant(m: &Model, k: f64, w: f64, w_name: &'static str) -> Result<f64, PredictError> {
     m.validate().map_err(PredictError::Model)?;
     if m.z_max.is_nan() || m.z_max <= 0.0 {
-        return Err(PredictError::Argument {
-            name: "z_max",
-            value: m.z_max,
-            requirement: "z_max > 0 (presliding)",
-        });
+        return Err(ArgumentError::new("z_max", m.z_max, "z_max > 0 (presliding)").into());
     }
     if !(k.is_finite() && k > 0.0) {
-        return Err(PredictError::Argument {
-            name: "k",
-            value: k,
-            requirement: "finite k > 0",
-        });
+        return Err(ArgumentError::new("k", k, "finite k > 0").into());
     }
     if !(w > 0.0 && w < 1.0) {
-        return Err(PredictError::Argument {
-            name: w_name,
-            value: w,
-            requirement: if w_name == "w" {
-                "0 < w < 1"
-            } else {
-                "0 < w_b < 1"
-            },
-        });
+        let requirement = if w_name == "w" {
+            "0 < w < 1"
+        } else {
+            "0 < w_b < 1"
+        };
+        return Err(ArgumentError::new(w_name, w, requirement).into());
     }
     Ok(-k * m.z_max / w.ln())
 }

@@ -39,13 +39,18 @@ pub struct Presliding {
 impl Presliding {
     /// Idle state at position `x0` [m]: `d = 0`, `H_r = 0`, `x_r = x0`, `H = 0`.
     pub fn new(x0: f64) -> Self {
+        Presliding::idle(x0, 0.0)
+    }
+
+    /// Idle at `x` [m] with `H_r = H = h` [N].
+    fn idle(x: f64, h: f64) -> Self {
         Presliding {
             d: 0,
-            x_r: x0,
-            x_ext: x0,
-            h_r: 0.0,
-            h_ext: 0.0,
-            h: 0.0,
+            x_r: x,
+            x_ext: x,
+            h_r: h,
+            h_ext: h,
+            h,
         }
     }
 
@@ -68,12 +73,7 @@ impl Presliding {
     /// reversals), so the discrepancy workflow re-anchors the memory at the
     /// measured force instead of guessing it.
     pub fn anchor(&mut self, x: f64, h: f64) {
-        self.d = 0;
-        self.x_r = x;
-        self.x_ext = x;
-        self.h_r = h;
-        self.h_ext = h;
-        self.h = h;
+        *self = Presliding::idle(x, h);
     }
 
     /// Dry (hysteretic) friction `H` [N] after the last update (0 when idle).

@@ -53,7 +53,7 @@
 //! release builds.
 
 use crate::friction::Friction;
-use crate::model::{Model, ModelError};
+use crate::model::{ArgumentError, Model, ModelError};
 use crate::presliding::Presliding;
 use std::fmt;
 
@@ -106,15 +106,8 @@ impl Default for SimOptions {
 /// Failure of a simulation.
 #[derive(Clone, Debug, PartialEq)]
 pub enum SimError {
-    /// An argument is out of range.
-    Argument {
-        /// Name of the argument (`k`, `w_b`, `z_max`, `t_end`, ...).
-        name: &'static str,
-        /// The value given.
-        value: f64,
-        /// The requirement.
-        requirement: &'static str,
-    },
+    /// An argument (or the model's `z_max`) is out of range.
+    Argument(ArgumentError),
     /// The model fails [`Model::validate`].
     Model(ModelError),
     /// `w` did not reach `w_b` before `t_limit` [s] (= 100·Fs/k).
@@ -140,11 +133,7 @@ pub enum SimError {
 impl fmt::Display for SimError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            SimError::Argument {
-                name,
-                value,
-                requirement,
-            } => write!(f, "{name}: requires {requirement}, got {value:?}"),
+            SimError::Argument(e) => e.fmt(f),
             SimError::Model(e) => write!(f, "invalid model: {e}"),
             SimError::NoBreakAway { t_limit } => {
                 write!(f, "no break-away before t = {t_limit:?} s")
@@ -563,11 +552,7 @@ impl<L: Law, U: Fn(f64) -> f64> Integrator<'_, L, U> {
 }
 
 fn arg_err(name: &'static str, value: f64, requirement: &'static str) -> SimError {
-    SimError::Argument {
-        name,
-        value,
-        requirement,
-    }
+    SimError::Argument(ArgumentError::new(name, value, requirement))
 }
 
 fn check_model(m: &Model) -> Result<(), SimError> {
@@ -659,21 +644,8 @@ pub fn simulate(
     t_end: f64,
     dt_out: f64,
 ) -> Result<Vec<Sample>, SimError> {
-    simulate_with(m, u, x0, v0, t_end, dt_out, &SimOptions::default())
-}
-
-/// [`simulate`] with explicit integrator options.
-pub fn simulate_with(
-    m: &Model,
-    u: &dyn Fn(f64) -> f64,
-    x0: f64,
-    v0: f64,
-    t_end: f64,
-    dt_out: f64,
-    opts: &SimOptions,
-) -> Result<Vec<Sample>, SimError> {
+    let opts = SimOptions::default();
     check_model(m)?;
-    check_tol(opts)?;
     if !x0.is_finite() {
         return Err(arg_err("x0", x0, "finite"));
     }

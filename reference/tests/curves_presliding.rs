@@ -42,10 +42,10 @@ fn hand(eps: f64) -> Model {
 
 #[test]
 fn shape_function() {
-    assert_eq!(shape(0.0), 0.0);
-    assert_eq!(shape(1.0), 1.0);
-    assert_eq!(shape(-0.5), 0.0);
-    assert_eq!(shape(3.0), 1.0);
+    // Clamped to g(w <= 0) = 0 and g(w >= 1) = 1.
+    for (w, g) in [(0.0, 0.0), (1.0, 1.0), (-0.5, 0.0), (3.0, 1.0)] {
+        assert_eq!(shape(w), g, "g({w})");
+    }
     assert!(shape(f64::NAN).is_nan());
     assert_close!(shape(0.5), 0.846_573_590_279_972_6);
     assert_close!(shape(0.95), 0.998_728_629_668_173);
@@ -96,6 +96,16 @@ fn stribeck_curve() {
     assert_eq!(steady_state(&m, -1e-3), -steady_state(&m, 1e-3));
 }
 
+/// [`hand`] with deadband `eps` [m] after the first motion of
+/// [`idle_then_first_motion`]: from idle at 0 to x = 0.5 at v = 0.2 (d = +1,
+/// w = 0.5).
+fn after_first_motion(eps: f64) -> (Model, Presliding) {
+    let m = hand(eps);
+    let mut p = Presliding::new(0.0);
+    p.update(&m, 0.5, 0.2);
+    (m, p)
+}
+
 #[test]
 fn idle_then_first_motion() {
     let m = hand(0.0);
@@ -132,9 +142,7 @@ fn first_motion_negative_and_ignoring_the_deadband() {
 
 #[test]
 fn reversal_takes_h_at_the_extremum() {
-    let m = hand(0.0);
-    let mut p = Presliding::new(0.0);
-    p.update(&m, 0.5, 0.2);
+    let (m, mut p) = after_first_motion(0.0);
     let h1 = p.dry();
     // Back to 0.3: reversal, x_r = 0.5, H_r = H(0.5), w = 0.2.
     let f = p.update(&m, 0.3, -0.1);
@@ -164,9 +172,7 @@ fn reversal_is_continuous_for_clean_data() {
 
 #[test]
 fn pending_reversal_holds_h_at_the_extremum() {
-    let m = hand(0.1);
-    let mut p = Presliding::new(0.0);
-    p.update(&m, 0.5, 0.2);
+    let (m, mut p) = after_first_motion(0.1);
     let h_ext = p.dry();
     assert_close!(h_ext, 1.539_689_423_385_825_4);
     // Same position, new velocity: H follows the branch with the current v,
@@ -194,9 +200,7 @@ fn pending_reversal_holds_h_at_the_extremum() {
 
 #[test]
 fn pending_then_forward_again_continues_the_branch() {
-    let m = hand(0.1);
-    let mut p = Presliding::new(0.0);
-    p.update(&m, 0.5, 0.2);
+    let (m, mut p) = after_first_motion(0.1);
     p.update(&m, 0.45, -0.1);
     assert_eq!(p.direction(), 1);
     // Forward past x_ext: same branch (x_r = 0, H_r = 0), no reversal.

@@ -264,7 +264,7 @@ fn consistent_root_is_the_smallest_root_when_v_s_is_not_monotone() {
 fn invalid_arguments_name_the_argument() {
     let m = paper();
     let name = |r: Result<BreakAway, PredictError>| match r {
-        Err(PredictError::Argument { name, .. }) => name,
+        Err(PredictError::Argument(e)) => e.name,
         other => panic!("{other:?}"),
     };
     for k in [0.0, -1.0, f64::NAN, f64::INFINITY] {

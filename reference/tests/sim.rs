@@ -127,7 +127,7 @@ fn deadband_changes_little_when_small() {
 fn break_away_errors() {
     let m = setting(1.0);
     let name = |r: Result<DynamicBreakAway, SimError>| match r {
-        Err(SimError::Argument { name, .. }) => name,
+        Err(SimError::Argument(e)) => e.name,
         other => panic!("{other:?}"),
     };
     assert_eq!(name(simulate_break_away(&m, 0.0, 0.95)), "k");
@@ -229,7 +229,7 @@ fn simulate_errors() {
     let m = setting(1.0);
     let u = |_t: f64| 0.0;
     let name = |r: Result<Vec<Sample>, SimError>| match r {
-        Err(SimError::Argument { name, .. }) => name,
+        Err(SimError::Argument(e)) => e.name,
         other => panic!("{other:?}"),
     };
     assert_eq!(name(simulate(&m, &u, 0.0, 0.0, 1.0, 0.0)), "dt_out");

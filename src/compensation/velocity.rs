@@ -146,10 +146,7 @@ impl<P: Position<T>, T: Scalar> VelocityEstimator<P, T> {
         if !(l1 > 0.0 && l2 > 0.0) {
             return Err(ConfigError(Setting::Bandwidth));
         }
-        let rate = units.length / (period * units.velocity);
-        if !(rate.is_finite() && rate > 0.0) {
-            return Err(ConfigError(Setting::Period));
-        }
+        let rate = positive(units.length / (period * units.velocity), Setting::Period)?;
         Ok(Self {
             scale,
             l1: setting_in(l1, 1.0, Setting::Bandwidth)?,

@@ -3,8 +3,9 @@
 //!
 //! Used by the library's tests (`mod support;`) and, through `#[path]`, by
 //! the tests against the reference (`tests-ref/tests/common`), the firmware
-//! examples (`examples/common`) and `cargo xtask`, so that the MCU, the host
-//! test and the host replay draw the same motion. `core` only: the firmware
+//! examples (`examples/common`), `cargo xtask` and the lab's closed-loop
+//! benchmark, so that the MCU, the host test and the host replay draw the
+//! same motion with the same parameters. `core` only: the firmware
 //! examples are `no_std`.
 #![allow(dead_code)] // each user takes its own subset
 
@@ -27,6 +28,17 @@ pub const FIG5: Params = Params {
 pub const LONG_RUN: Params = Params {
     delta: 1.3,
     sigma: 0.2,
+    ..FIG5
+};
+
+/// The plant of the closed-loop benchmark (`breakaway-lab closed-loop` and
+/// the firmware example `closed_loop`): Fc +25 %, Fs +20 %, V +30 % and
+/// z_max +30 % against the compensator's [`FIG5`].
+pub const CLOSED_LOOP_PLANT: Params = Params {
+    fc: 1.25,
+    fs: 1.8,
+    v_stribeck: 1.3e-3,
+    z_max: 1.3e-5,
     ..FIG5
 };
 

@@ -340,7 +340,7 @@ pub fn measure(
     );
     // Deterministic: tracing changes no guest state, so the plain run
     // prints what the traced run would.
-    let output = qemu::execute(&elf, target, &[], Duration::from_secs(120))?;
+    let output = qemu::execute(&elf, target)?;
     // One log per process: profiles may run side by side.
     let log = std::env::temp_dir().join(format!(
         "breakaway-profile-{}-{}.log",

@@ -111,16 +111,14 @@ pub fn build_with_env(
         .join(example))
 }
 
-/// Runs an ELF under QEMU with semihosting and extra QEMU arguments; returns
-/// its standard output. A non-zero exit status (panic, HardFault, failed
-/// check) or a run longer than `limit` is an error.
-pub fn execute(
-    elf: &PathBuf,
-    target: Target,
-    extra: &[&str],
-    limit: Duration,
-) -> Result<String, String> {
-    let mut child = spawn(elf, target, extra, Stdio::piped())?;
+/// The longest run of an example [s] before it counts as hung.
+const RUN_LIMIT: Duration = Duration::from_secs(120);
+
+/// Runs an ELF under QEMU with semihosting; returns its standard output. A
+/// non-zero exit status (panic, HardFault, failed check) or a run longer
+/// than [`RUN_LIMIT`] is an error.
+pub fn execute(elf: &PathBuf, target: Target) -> Result<String, String> {
+    let mut child = spawn(elf, target, &[], Stdio::piped())?;
     let mut stdout = child.stdout.take().ok_or("no stdout pipe")?;
     let reader = thread::spawn(move || {
         let mut text = String::new();
@@ -132,14 +130,14 @@ pub fn execute(
         if let Some(status) = child.try_wait().map_err(|e| e.to_string())? {
             break status;
         }
-        if start.elapsed() > limit {
+        if start.elapsed() > RUN_LIMIT {
             let _ = child.kill();
             let _ = child.wait();
             return Err(format!(
                 "{} on {} did not finish within {} s",
                 elf.display(),
                 target.machine,
-                limit.as_secs()
+                RUN_LIMIT.as_secs()
             ));
         }
         thread::sleep(Duration::from_millis(20));
@@ -194,5 +192,5 @@ pub fn run_example(example: &str, target: Target) -> Result<String, String> {
         "xtask: running {example} on {} ({})",
         target.core, target.machine
     );
-    execute(&elf, target, &[], Duration::from_secs(120))
+    execute(&elf, target)
 }

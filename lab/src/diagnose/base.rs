@@ -4,20 +4,12 @@
 
 use super::*;
 
-/// The paper's Fig. 5 parameter set as a model (m = 1 kg, no effects): the
-/// placeholder start when no start model fits, and the tests' default.
+/// The paper's Fig. 5 parameter set as a model (`lab/models/fig5.toml`:
+/// m = 1 kg, no effects): the placeholder start when no start model fits,
+/// and the tests' default.
 pub(crate) fn fig5_model() -> Model {
-    Model {
-        mass: 1.0,
-        fc: 1.0,
-        fs: 1.5,
-        v_stribeck: 1e-3,
-        delta: 1.0,
-        sigma: 0.0,
-        z_max: 1e-5,
-        epsilon: 0.0,
-        effects: Effects::default(),
-    }
+    Model::from_toml_str(include_str!("../../models/fig5.toml"))
+        .expect("lab/models/fig5.toml is a valid model file")
 }
 
 /// The base model of MODEL.md §2–§3 (Coulomb + Stribeck + presliding,
@@ -226,6 +218,14 @@ pub(super) fn tidy(p: &Prepared, m: Model) -> Model {
 
 /// `m` without the catalogue effect `effect`.
 pub(super) fn remove_effect(m: &Model, effect: Effect, p: &Prepared) -> Model {
+    without_effect(m, effect, || low_speed(p).unwrap_or(1e-3))
+}
+
+/// `m` without the catalogue effect `effect`, on time records and
+/// steady-state records alike. Without `stribeck` (`Fs = Fc` marks the
+/// absence, MODEL.md §7) V and δ have no effect and are written as neutral,
+/// physical values: δ = 1 and V = `neutral_v()` [m/s], a speed of the data.
+pub(crate) fn without_effect(m: &Model, effect: Effect, neutral_v: impl FnOnce() -> f64) -> Model {
     let mut c = m.clone();
     let e = &mut c.effects;
     match effect {
@@ -238,10 +238,8 @@ pub(super) fn remove_effect(m: &Model, effect: Effect, p: &Prepared) -> Model {
         Effect::Drift => e.drift = None,
         Effect::NonlinearViscous => e.nonlinear_viscous = None,
         Effect::Stribeck => {
-            // Fs = Fc marks the absence (MODEL.md §7); V and δ then have no
-            // effect and are written as neutral, physical values.
             c.fs = c.fc;
-            c.v_stribeck = low_speed(p).unwrap_or(1e-3);
+            c.v_stribeck = neutral_v();
             c.delta = 1.0;
         }
         Effect::Presliding => c.z_max = 0.0,

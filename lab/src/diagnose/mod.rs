@@ -82,6 +82,13 @@ pub struct Candidate {
     pub model: Model,
 }
 
+impl Candidate {
+    /// `(effect, rms [N], score)`, as the reports list a round's candidates.
+    pub fn summary(&self) -> (Effect, f64, f64) {
+        (self.effect, self.rms, self.score)
+    }
+}
+
 /// One accepted effect.
 #[derive(Clone, Debug)]
 pub struct Step {

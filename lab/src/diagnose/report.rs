@@ -58,20 +58,27 @@ pub fn effect_params(m: &Model, effect: Effect) -> serde_json::Value {
     }
 }
 
-/// One candidate as JSON (`effect`, `rms`, `score`), for the steps and the
-/// rejected list of both reports.
-pub fn candidate_json(effect: Effect, rms: f64, score: f64) -> serde_json::Value {
-    serde_json::json!({"effect": effect.name(), "rms": rms, "score": score})
+/// Candidates `(effect, held-out rms [N], BIC change)` as a JSON list of
+/// objects (`effect`, `rms`, `score`), for the steps and the rejected list
+/// of both reports.
+pub fn candidates_json(
+    candidates: impl IntoIterator<Item = (Effect, f64, f64)>,
+) -> serde_json::Value {
+    candidates
+        .into_iter()
+        .map(|(effect, rms, score)| serde_json::json!({"effect": effect.name(), "rms": rms, "score": score}))
+        .collect()
 }
 
 /// The keys every accepted step has in both reports (dynamic and
 /// steady-state): effect, its fitted parameters, model error before and
-/// after [N], BIC change and the round's candidates.
+/// after [N], BIC change and the round's candidates `(effect, rms [N],
+/// score)`.
 pub fn step_json(
     effect: Effect,
     model: &Model,
     (rms_before, rms_after, score): (f64, f64, f64),
-    candidates: Vec<serde_json::Value>,
+    candidates: impl IntoIterator<Item = (Effect, f64, f64)>,
 ) -> serde_json::Value {
     serde_json::json!({
         "effect": effect.name(),
@@ -79,7 +86,7 @@ pub fn step_json(
         "rms_before": rms_before,
         "rms_after": rms_after,
         "score": score,
-        "candidates": candidates,
+        "candidates": candidates_json(candidates),
     })
 }
 
@@ -90,16 +97,12 @@ pub fn report_json(rep: &Report) -> String {
         .steps
         .iter()
         .map(|s| {
-            let candidates = s
-                .candidates
-                .iter()
-                .map(|c| candidate_json(c.effect, c.rms, c.score))
-                .collect();
+            let round = s.candidates.iter().map(Candidate::summary);
             let mut j = step_json(
                 s.effect,
                 &s.model,
                 (s.rms_before, s.rms_after, s.score),
-                candidates,
+                round,
             );
             j["signal"] = json!(s.signal.0);
             j["signal_explained"] = json!(s.signal.1);
@@ -127,7 +130,7 @@ pub fn report_json(rep: &Report) -> String {
         "steps": steps,
         "swapped": rep.swapped.iter().map(|(a, b, before, after)| json!({"effect": a.name(), "replaced_by": b.name(), "rms_before": before, "rms_after": after})).collect::<Vec<_>>(),
         "pruned": rep.pruned.iter().map(|(n, without, with)| json!({"effect": n.name(), "rms_without": without, "rms_with": with})).collect::<Vec<_>>(),
-        "rejected": rep.last_round.iter().map(|c| candidate_json(c.effect, c.rms, c.score)).collect::<Vec<_>>(),
+        "rejected": candidates_json(rep.last_round.iter().map(Candidate::summary)),
         "accept_gain": ACCEPT_GAIN,
         "min_gap_share": MIN_GAP_SHARE,
         "start_model": model_json(&rep.start),
@@ -288,25 +291,25 @@ pub fn report_text(rep: &Report, source: &str) -> String {
     let added: Vec<&str> = rep.steps.iter().map(|s| s.effect.name()).collect();
     let _ = writeln!(s, "effects added: [{}]", added.join(", "));
     let m = &rep.model;
-    let _ = writeln!(
-        s,
-        "model: mass {} fc {} fs {} v_stribeck {} delta {} sigma {} z_max {}{}",
-        short(m.mass, 5),
-        short(m.fc, 5),
-        short(m.fs, 5),
-        short(m.v_stribeck, 4),
-        short(m.delta, 3),
-        short(m.sigma, 5),
-        short(m.z_max, 3),
-        if effect_params_all(m).is_empty() {
-            String::new()
-        } else {
-            format!(
-                " effects {}",
-                serde_json::Value::Object(effect_params_all(m))
-            )
-        }
-    );
+    // The base parameters by their MODEL.md §7 names, each to its digits.
+    let base = [
+        ("mass", m.mass, 5),
+        ("fc", m.fc, 5),
+        ("fs", m.fs, 5),
+        ("v_stribeck", m.v_stribeck, 4),
+        ("delta", m.delta, 3),
+        ("sigma", m.sigma, 5),
+        ("z_max", m.z_max, 3),
+    ];
+    s.push_str("model:");
+    for (name, value, digits) in base {
+        let _ = write!(s, " {name} {}", short(value, digits));
+    }
+    let effects = effect_params_all(m);
+    if !effects.is_empty() {
+        let _ = write!(s, " effects {}", serde_json::Value::Object(effects));
+    }
+    s.push('\n');
     s
 }
 

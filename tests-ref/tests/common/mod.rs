@@ -130,6 +130,12 @@ pub fn runner(cases: u32) -> TestRunner {
     )
 }
 
+/// The presliding boundary w_b of the break-away tests: the usual 0.95, or
+/// any in [0.5, 0.99).
+pub fn boundary() -> impl Strategy<Value = f32> {
+    prop_oneof![Just(0.95f32), 0.5f32..0.99]
+}
+
 /// Runs `cases` cases of `strategy` through `test` on the deterministic
 /// runner; panics with the failing case (shrunk).
 pub fn check<S: Strategy>(cases: u32, strategy: &S, test: impl Fn(S::Value) -> TestCaseResult) {
