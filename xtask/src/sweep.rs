@@ -13,6 +13,11 @@
 //! one is a false positive. The scoring rule is fixed here, before any
 //! sweep is run; the workflow's thresholds live in `breakaway-lab` and are
 //! not tuned on a sweep's seeds.
+//!
+//! Each record's `truth.toml` is also validated under the record's metric
+//! (`breakaway-lab validate`): where the generator's own true model leaves
+//! more than half of the reported gap, no diagnosis could halve it, and
+//! the summary counts such records apart (`beyond_metric`).
 
 use crate::{cargo, root, run};
 use indicatif::{ProgressBar, ProgressStyle};

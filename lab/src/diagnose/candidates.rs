@@ -351,18 +351,23 @@ pub(super) fn dwell_starts(p: &Prepared, m: &Model, r: &[f64]) -> Vec<Model> {
     let train: Vec<usize> = p.valid().filter(|&i| !p.held_out[i]).collect();
     let f0 = p.friction(m);
     let h = 0.1 * m.fc;
+    // The weighted, filtered training column of `(F(c) − F(m))/h`: how
+    // the residual moves per newton of the change from `m` to `c`.
+    let column = |c: &Model| -> Vec<f64> {
+        let d: Vec<f64> = p
+            .friction(c)
+            .iter()
+            .zip(&f0)
+            .map(|(a, b)| (a - b) / h)
+            .collect();
+        train
+            .iter()
+            .map(|&i| p.weight[i].sqrt() * p.filter_at(&d, i))
+            .collect()
+    };
     let mut m_fs = m.clone();
     m_fs.fs += h;
-    let d_fs: Vec<f64> = p
-        .friction(&m_fs)
-        .iter()
-        .zip(&f0)
-        .map(|(a, b)| (a - b) / h)
-        .collect();
-    let col_fs: Vec<f64> = train
-        .iter()
-        .map(|&i| p.weight[i].sqrt() * p.filter_at(&d_fs, i))
-        .collect();
+    let col_fs = column(&m_fs);
     let b: Vec<f64> = train.iter().map(|&i| p.weight[i].sqrt() * r[i]).collect();
     let mut scored: Vec<(f64, Model)> = Vec::new();
     for &v_rest in &v_rests {
@@ -373,16 +378,7 @@ pub(super) fn dwell_starts(p: &Prepared, m: &Model, r: &[f64]) -> Vec<Model> {
                 gamma,
                 v_rest,
             });
-            let d_dw: Vec<f64> = p
-                .friction(&c)
-                .iter()
-                .zip(&f0)
-                .map(|(a, b)| (a - b) / h)
-                .collect();
-            let col_dw: Vec<f64> = train
-                .iter()
-                .map(|&i| p.weight[i].sqrt() * p.filter_at(&d_dw, i))
-                .collect();
+            let col_dw = column(&c);
             // r = W*(u − F) − m·a: a friction change dF lowers r by W*dF.
             let cols = if stribeck {
                 vec![col_dw.clone(), col_fs.clone()]
