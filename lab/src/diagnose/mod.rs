@@ -459,13 +459,6 @@ pub fn diagnose(
                     let fitted = fit_candidate(&p, &base, &base_r, alt)
                         .filter(|m| sound_fit(&p, &base, m, alt))?;
                     let a_rms = held_rms(&p, &fitted).0;
-                    // The general form replaces the nested one only as
-                    // `prefer_nested` would take it.
-                    let nested = effect == Effect::Viscous && alt == Effect::NonlinearViscous;
-                    let general = fit::model_error(a_rms, floor);
-                    if nested && general > (1.0 - NESTED_GAP_GAIN) * fit::model_error(rms, floor) {
-                        return None;
-                    }
                     let b = bic(&p, a_rms, fit::params_of(&fitted).len());
                     Some((b, alt, fitted))
                 })

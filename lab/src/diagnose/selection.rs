@@ -198,13 +198,8 @@ pub fn dwell_spread(p: &Prepared, m: &Model) -> f64 {
 
 /// Share of the remaining gap (model error above the floor) that the
 /// general `nonlinear_viscous` must remove beyond `viscous` to be named
-/// instead of it: the exponent `n` is one more parameter, and like any
-/// named effect it must remove [`MIN_GAP_SHARE`] of the gap it is offered.
-/// (Until version 6.2 a tenth: on the development records 500000–500159
-/// the steps that took the general form for a hidden `viscous` removed 17–22 %
-/// of `viscous`'s gap beyond it, those with `nonlinear_viscous` hidden
-/// 35–100 %.)
-pub const NESTED_GAP_GAIN: f64 = MIN_GAP_SHARE;
+/// instead of it.
+pub const NESTED_GAP_GAIN: f64 = 0.1;
 
 /// `viscous` is `nonlinear_viscous` with `n = 1`: the general form is
 /// taken only when its model error is [`NESTED_GAP_GAIN`] below the nested
