@@ -17,9 +17,16 @@
 //! Each record's `truth.toml` is also validated under the record's metric
 //! (`breakaway-lab validate`): where the generator's own true model leaves
 //! more than half of the reported gap, a diagnosis is unlikely to halve
-//! it, and the summary counts such records apart (`beyond_metric`).
+//! it, and the summary counts such records apart (`beyond_metric`). So is
+//! the true model without each hidden effect in turn: where taking the
+//! effect out leaves the true model's error within [`RESOLVED_GAIN`], the
+//! metric cannot see that effect on that record, and the summary counts per
+//! effect the records where it can (`resolved`) and how many of those name
+//! it (`detected_resolved`).
 
 use crate::{cargo, root, run};
+use breakaway_lab::diagnose::without_effect;
+use breakaway_reference::{Effect, Model};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
@@ -113,9 +120,31 @@ pub struct Scored {
     /// weights, all samples); `None` where it could not be measured
     /// (steady-state records).
     pub true_model_error: Option<f64>,
+    /// Per hidden effect, the model error [N] of the true model without
+    /// that effect (same metric; `None` where it could not be measured).
+    pub without_error: Vec<(String, Option<f64>)>,
 }
 
+/// Least relative rise of the true model's error when a hidden effect is
+/// taken out of it for the metric to count that effect as seen on the
+/// record ([`Scored::resolved`]): a tenth.
+pub const RESOLVED_GAIN: f64 = 0.1;
+
 impl Scored {
+    /// Whether the metric sees the hidden effect `effect` on this record:
+    /// the true model without it is more than [`RESOLVED_GAIN`] further
+    /// from the data than the true model (`None` where either could not be
+    /// measured).
+    pub fn resolved(&self, effect: &str) -> Option<bool> {
+        let with = self.true_model_error?;
+        let without = self
+            .without_error
+            .iter()
+            .find(|(e, _)| e == effect)
+            .and_then(|(_, w)| *w)?;
+        Some(without > (1.0 + RESOLVED_GAIN) * with)
+    }
+
     /// Exact and, with hidden effects, the gap halved.
     pub fn success(&self) -> bool {
         self.exact && self.shrink.is_none_or(|s| s >= 0.5)
@@ -201,6 +230,7 @@ pub fn score(name: &str, truth: Truth, report: Result<Report, String>) -> Scored
             rms_before: None,
             failed: Some(e),
             true_model_error: None,
+            without_error: Vec::new(),
         },
         Ok(rep) => {
             let named = rep.effects_added;
@@ -224,6 +254,7 @@ pub fn score(name: &str, truth: Truth, report: Result<Report, String>) -> Scored
                 rms_before: rep.rms_before,
                 failed: None,
                 true_model_error: None,
+                without_error: Vec::new(),
             }
         }
     }
@@ -295,7 +326,12 @@ pub fn sweep(o: &Options) -> Result<Vec<Scored>, String> {
             Err(e) => Err(format!("cannot run breakaway-lab: {e}")),
         };
         let mut s = score(&name, truth, report);
-        s.true_model_error = true_model_error(&lab, dir);
+        s.true_model_error = true_model_error(&lab, dir, &dir.join("truth.toml"));
+        s.without_error = s
+            .hidden
+            .iter()
+            .map(|h| (h.clone(), error_without(&lab, dir, h)))
+            .collect();
         let k = done.fetch_add(1, Ordering::Relaxed) + 1;
         let line = format!(
             "sweep [{k}/{total}] {name}: hidden [{}] named [{}]{}",
@@ -328,14 +364,15 @@ pub fn sweep(o: &Options) -> Result<Vec<Scored>, String> {
     Ok(scored)
 }
 
-/// `breakaway-lab validate` of the record's `truth.toml` on its
-/// `data.csv` (`None` when either is missing or validate fails, as on
-/// steady-state records).
-fn true_model_error(lab: &Path, dir: &Path) -> Option<f64> {
+/// `breakaway-lab validate` of the model file `model` (the record's
+/// `truth.toml`, or one derived from it) on the record's `data.csv`
+/// (`None` when either is missing or validate fails, as on steady-state
+/// records).
+fn true_model_error(lab: &Path, dir: &Path, model: &Path) -> Option<f64> {
     let out = Command::new(lab)
         .arg("validate")
         .arg("--model")
-        .arg(dir.join("truth.toml"))
+        .arg(model)
         .arg(dir.join("data.csv"))
         .arg("--json")
         .output()
@@ -346,6 +383,20 @@ fn true_model_error(lab: &Path, dir: &Path) -> Option<f64> {
     serde_json::from_slice::<Validation>(&out.stdout)
         .ok()?
         .model_error
+}
+
+/// The model error of the record's true model without the catalogue
+/// effect `effect` (written beside it as `truth-without-<effect>.toml`);
+/// `None` for a name outside the catalogue or where it cannot be measured.
+fn error_without(lab: &Path, dir: &Path, effect: &str) -> Option<f64> {
+    let e = Effect::ALL.into_iter().find(|e| e.name() == effect)?;
+    let truth = Model::load(&dir.join("truth.toml")).ok()?;
+    // Only catalogue effects are hidden; the neutral Stribeck speed is
+    // never used for them.
+    let without = without_effect(&truth, e, || truth.v_stribeck);
+    let path = dir.join(format!("truth-without-{effect}.toml"));
+    without.save(&path).ok()?;
+    true_model_error(lab, dir, &path)
 }
 
 /// A progress bar under the per-record lines on a terminal; hidden
@@ -389,6 +440,8 @@ pub struct Summary {
     pub beyond_metric: BeyondMetric,
     /// Hidden effects at ≥ 20× the noise, and how many of them were named.
     pub detection_above_20x: Detection,
+    /// The same for the effects the metric sees ([`Scored::resolved`]).
+    pub detection_above_20x_resolved: Detection,
     /// Records `diagnose` failed on.
     pub failed: Vec<Failed>,
     /// Effect-free records that named an effect.
@@ -460,6 +513,8 @@ pub struct PerEffect {
     pub by_visibility: Vec<Bin>,
     /// Records that named it.
     pub detected: usize,
+    /// Records among [`PerEffect::resolved`] that named it.
+    pub detected_resolved: usize,
     /// Effect name.
     pub effect: String,
     /// Records with it named exactly.
@@ -468,6 +523,8 @@ pub struct PerEffect {
     pub median_shrink: f64,
     /// Records with it hidden.
     pub records: usize,
+    /// Records where the metric sees it ([`Scored::resolved`]).
+    pub resolved: usize,
 }
 
 /// Detection within a visibility bin.
@@ -533,9 +590,16 @@ pub fn summary(scored: &[Scored]) -> Summary {
                     }
                 })
                 .collect();
+            let resolved: Vec<&Scored> = with
+                .iter()
+                .map(|(s, _)| *s)
+                .filter(|s| s.resolved(&e) == Some(true))
+                .collect();
             PerEffect {
                 by_visibility,
                 detected: with.iter().filter(|(s, _)| s.named.contains(&e)).count(),
+                detected_resolved: resolved.iter().filter(|s| s.named.contains(&e)).count(),
+                resolved: resolved.len(),
                 exact: with.iter().filter(|(s, _)| s.exact).count(),
                 median_shrink: median(with.iter().filter_map(|(s, _)| s.shrink).collect()),
                 records: with.len(),
@@ -543,16 +607,21 @@ pub fn summary(scored: &[Scored]) -> Summary {
             }
         })
         .collect();
-    let above20: Vec<bool> = scored
+    // (named, seen by the metric) of each hidden effect at ≥ 20×.
+    let above20: Vec<(bool, bool)> = scored
         .iter()
         .flat_map(|s| {
             s.visibility
                 .iter()
                 .filter(|(_, v)| *v >= 20.0)
-                .map(|(e, _)| s.named.contains(e))
+                .map(|(e, _)| (s.named.contains(e), s.resolved(e) == Some(true)))
                 .collect::<Vec<_>>()
         })
         .collect();
+    let detection = |of: &[&(bool, bool)]| Detection {
+        detected: of.iter().filter(|(named, _)| *named).count(),
+        effects: of.len(),
+    };
     let plants = distinct(scored.iter().map(|s| s.plant.clone()));
     let per_plant = plants
         .into_iter()
@@ -572,10 +641,10 @@ pub fn summary(scored: &[Scored]) -> Summary {
         })
         .collect();
     Summary {
-        detection_above_20x: Detection {
-            detected: above20.iter().filter(|d| **d).count(),
-            effects: above20.len(),
-        },
+        detection_above_20x: detection(&above20.iter().collect::<Vec<_>>()),
+        detection_above_20x_resolved: detection(
+            &above20.iter().filter(|(_, seen)| *seen).collect::<Vec<_>>(),
+        ),
         failed: scored
             .iter()
             .filter_map(|s| {
@@ -713,6 +782,7 @@ mod tests {
             rms_before: shrink.map(|_| 1.0),
             failed: None,
             true_model_error: None,
+            without_error: Vec::new(),
         }
     }
 
@@ -724,6 +794,8 @@ mod tests {
         failed.failed = Some("diagnose failed".into());
         let mut s1 = scored("s1", "model", &[("offset", 25.0)], &["offset"], Some(0.75));
         s1.true_model_error = Some(0.1);
+        // Without its offset the true model is 5× further off: seen.
+        s1.without_error = vec![("offset".into(), Some(0.5))];
         // The true model leaves 0.6 of a gap of 1: beyond the metric.
         let mut s3 = scored(
             "s3",
@@ -733,6 +805,9 @@ mod tests {
             Some(0.2),
         );
         s3.true_model_error = Some(0.6);
+        // Without its offset only 2 % further off: not seen; drift not
+        // measured.
+        s3.without_error = vec![("offset".into(), Some(0.612)), ("drift".into(), None)];
         let records = [
             s1,
             scored("s2", "model", &[], &["viscous"], None),
@@ -754,6 +829,10 @@ mod tests {
   "detection_above_20x": {
     "detected": 1,
     "effects": 2
+  },
+  "detection_above_20x_resolved": {
+    "detected": 1,
+    "effects": 1
   },
   "failed": [
     {
@@ -823,10 +902,12 @@ mod tests {
         }
       ],
       "detected": 0,
+      "detected_resolved": 0,
       "effect": "drift",
       "exact": 0,
       "median_shrink": 0.2,
-      "records": 2
+      "records": 2,
+      "resolved": 0
     },
     {
       "by_visibility": [
@@ -852,10 +933,12 @@ mod tests {
         }
       ],
       "detected": 2,
+      "detected_resolved": 1,
       "effect": "offset",
       "exact": 1,
       "median_shrink": 0.75,
-      "records": 2
+      "records": 2,
+      "resolved": 1
     }
   ],
   "per_plant": [

@@ -225,7 +225,7 @@ pub(super) fn remove_effect(m: &Model, effect: Effect, p: &Prepared) -> Model {
 /// steady-state records alike. Without `stribeck` (`Fs = Fc` marks the
 /// absence, MODEL.md §7) V and δ have no effect and are written as neutral,
 /// physical values: δ = 1 and V = `neutral_v()` [m/s], a speed of the data.
-pub(crate) fn without_effect(m: &Model, effect: Effect, neutral_v: impl FnOnce() -> f64) -> Model {
+pub fn without_effect(m: &Model, effect: Effect, neutral_v: impl FnOnce() -> f64) -> Model {
     let mut c = m.clone();
     let e = &mut c.effects;
     match effect {
