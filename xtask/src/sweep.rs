@@ -326,11 +326,16 @@ pub fn sweep(o: &Options) -> Result<Vec<Scored>, String> {
             Err(e) => Err(format!("cannot run breakaway-lab: {e}")),
         };
         let mut s = score(&name, truth, report);
-        s.true_model_error = true_model_error(&lab, dir, &dir.join("truth.toml"));
+        s.true_model_error = validated_error(&lab, dir, &dir.join("truth.toml"));
+        // The true model is read once for all its hidden effects.
+        let truth = Model::load(&dir.join("truth.toml")).ok();
         s.without_error = s
             .hidden
             .iter()
-            .map(|h| (h.clone(), error_without(&lab, dir, h)))
+            .map(|h| {
+                let e = truth.as_ref().and_then(|t| error_without(&lab, dir, t, h));
+                (h.clone(), e)
+            })
             .collect();
         let k = done.fetch_add(1, Ordering::Relaxed) + 1;
         let line = format!(
@@ -368,7 +373,7 @@ pub fn sweep(o: &Options) -> Result<Vec<Scored>, String> {
 /// `truth.toml`, or one derived from it) on the record's `data.csv`
 /// (`None` when either is missing or validate fails, as on steady-state
 /// records).
-fn true_model_error(lab: &Path, dir: &Path, model: &Path) -> Option<f64> {
+fn validated_error(lab: &Path, dir: &Path, model: &Path) -> Option<f64> {
     let out = Command::new(lab)
         .arg("validate")
         .arg("--model")
@@ -385,18 +390,18 @@ fn true_model_error(lab: &Path, dir: &Path, model: &Path) -> Option<f64> {
         .model_error
 }
 
-/// The model error of the record's true model without the catalogue
-/// effect `effect` (written beside it as `truth-without-<effect>.toml`);
-/// `None` for a name outside the catalogue or where it cannot be measured.
-fn error_without(lab: &Path, dir: &Path, effect: &str) -> Option<f64> {
+/// The model error of the record's true model `truth` without the
+/// catalogue effect `effect` (written beside it as
+/// `truth-without-<effect>.toml`); `None` for a name outside the catalogue
+/// or where it cannot be measured.
+fn error_without(lab: &Path, dir: &Path, truth: &Model, effect: &str) -> Option<f64> {
     let e = Effect::ALL.into_iter().find(|e| e.name() == effect)?;
-    let truth = Model::load(&dir.join("truth.toml")).ok()?;
     // Only catalogue effects are hidden; the neutral Stribeck speed is
     // never used for them.
-    let without = without_effect(&truth, e, || truth.v_stribeck);
+    let without = without_effect(truth, e, || truth.v_stribeck);
     let path = dir.join(format!("truth-without-{effect}.toml"));
     without.save(&path).ok()?;
-    true_model_error(lab, dir, &path)
+    validated_error(lab, dir, &path)
 }
 
 /// A progress bar under the per-record lines on a terminal; hidden
@@ -618,10 +623,6 @@ pub fn summary(scored: &[Scored]) -> Summary {
                 .collect::<Vec<_>>()
         })
         .collect();
-    let detection = |of: &[&(bool, bool)]| Detection {
-        detected: of.iter().filter(|(named, _)| *named).count(),
-        effects: of.len(),
-    };
     let plants = distinct(scored.iter().map(|s| s.plant.clone()));
     let per_plant = plants
         .into_iter()
@@ -641,9 +642,12 @@ pub fn summary(scored: &[Scored]) -> Summary {
         })
         .collect();
     Summary {
-        detection_above_20x: detection(&above20.iter().collect::<Vec<_>>()),
+        detection_above_20x: detection(above20.iter().map(|(named, _)| *named)),
         detection_above_20x_resolved: detection(
-            &above20.iter().filter(|(_, seen)| *seen).collect::<Vec<_>>(),
+            above20
+                .iter()
+                .filter(|(_, seen)| *seen)
+                .map(|(named, _)| *named),
         ),
         failed: scored
             .iter()
@@ -681,6 +685,16 @@ pub fn summary(scored: &[Scored]) -> Summary {
         per_plant,
         records: scored.len(),
     }
+}
+
+/// How many of the effects (`true`: named) were named.
+fn detection(named: impl Iterator<Item = bool>) -> Detection {
+    let (mut detected, mut effects) = (0, 0);
+    for n in named {
+        detected += usize::from(n);
+        effects += 1;
+    }
+    Detection { detected, effects }
 }
 
 /// `cargo xtask sweep`.
