@@ -81,7 +81,7 @@ pub enum Command {
     ///
     /// Localises the disagreement (regimes, time windows, signals) and names
     /// the missing effect: each candidate added, refitted, scored by BIC on
-    /// held-out time blocks; accepted only if it also lowers the held-out
+    /// held-out blocks; accepted only if it also lowers the held-out
     /// rms by 5 % above the measurement floor; repeated until none helps. Without --model it starts from
     /// the base model (Coulomb + Stribeck + presliding, σ = 0) identified
     /// from the data.

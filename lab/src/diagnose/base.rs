@@ -91,8 +91,27 @@ pub fn base_weights(p: &mut Prepared, progress: &mut dyn FnMut(&str)) -> Model {
         // floor larger than the record's whole rms).
         model = restart_dip(p, model, progress);
     }
-    let r1 = p.residual(&model);
-    p.set_error_weights(&model, &r1);
+    // The weights and the floor come from the model's slopes. A Stribeck
+    // dip still run to its bound (`Fs` at the top of its range, or `V`
+    // below the slowest resolvable speed) or a presliding distance below
+    // 1.5 counts has slopes that no sound model has, and would make every
+    // low-speed sample "explained by resolution"; such a part is dropped
+    // later in any case (`dropped` in the report), so the weights are
+    // taken from the model without it.
+    let steep = |e: Effect| match e {
+        Effect::Stribeck => {
+            fit::has_effect(&model, e) && (model.v_stribeck < p.v_rest || fs_at_bound(&model))
+        }
+        _ => degenerate(p, &model, e).is_some(),
+    };
+    let weigh = [Effect::Stribeck, Effect::Presliding]
+        .into_iter()
+        .filter(|&e| steep(e))
+        .fold(model.clone(), |m, e| {
+            without_effect(&m, e, || low_speed(p).unwrap_or(m.v_stribeck))
+        });
+    let r1 = p.residual(&weigh);
+    p.set_error_weights(&weigh, &r1);
     model
 }
 

@@ -50,6 +50,13 @@ pub use selection::*;
 /// Most effects added.
 pub const MAX_ROUNDS: usize = 4;
 
+/// Fewest moving samples in each held-out block, in force-kernel widths
+/// (`2·K + 1` samples): a held-out figure over less motion than that
+/// compares almost nothing (the residual of one window is one filtered
+/// value), so such a record is reported as too still to judge and no
+/// effect is named on it.
+pub const MIN_HELD_OUT_WINDOWS: usize = 1;
+
 /// Options of the workflow.
 #[derive(Clone, Debug)]
 pub struct Options {
@@ -173,6 +180,11 @@ pub struct Report {
     /// Still samples (position within one count over the window; the friction is
     /// the measured force there, not a prediction) and all valid samples.
     pub still: (usize, usize),
+    /// Moving (scored) samples in the held-out blocks.
+    pub moving_held_out: usize,
+    /// Whether the held-out blocks move enough to judge the model
+    /// ([`MIN_HELD_OUT_WINDOWS`]); when not, no effect is named.
+    pub judged: bool,
     /// Parts of the start structure dropped as not identifiable, with the
     /// reason (e.g. `stribeck`: V at its bound).
     pub dropped: Vec<(Effect, String)>,
@@ -205,7 +217,7 @@ pub struct Report {
 }
 
 /// What the residual is, for reports.
-pub const METRIC: &str = "model error [N]: sqrt(rms^2 - floor^2), rms the held-out weighted RMS of the force residual along the measured motion, r = W*(u - F(t, x, v_hat)) - m*a_hat (Savitzky-Golay v_hat, a_hat; W the matching force kernel), floor the part that force noise and encoder resolution explain; still samples (position within one count over the window) are the measured force, re-anchor the presliding memory and carry no weight; weights (speed/direction class x noise/resolution variance) fixed from the start model; time blocks 2, 5, 8 of 10 held out";
+pub const METRIC: &str = "model error [N]: sqrt(rms^2 - floor^2), rms the held-out weighted RMS of the force residual along the measured motion, r = W*(u - F(t, x, v_hat)) - m*a_hat (Savitzky-Golay v_hat, a_hat; W the matching force kernel), floor the part that force noise and encoder resolution explain; still samples (position within one count over the window) are the measured force, re-anchor the presliding memory and carry no weight; weights (speed/direction class x noise/resolution variance) fixed from the start model; blocks 2, 5, 8 of 10 held out (consecutive blocks with equal numbers of moving samples)";
 
 fn held_rms(p: &Prepared, m: &Model) -> (f64, Vec<f64>) {
     let r = p.residual(m);
@@ -275,12 +287,15 @@ pub fn diagnose(
     let series = signal_series(&p, &model);
     let signals = localise_signals(&p, &r, &series);
     let allowed = |e: Effect| opts.candidates.is_empty() || opts.candidates.contains(&e);
+    let moving_held_out = p.valid().filter(|&i| p.held_out[i] && !p.still[i]).count();
+    let judged = moving_held_out >= fit::HELD_OUT.len() * MIN_HELD_OUT_WINDOWS * (2 * p.kf + 1);
+    let rounds = if judged { MAX_ROUNDS } else { 0 };
     let mut steps = Vec::new();
     let mut last_round = Vec::new();
     // Whether a round restarted the Stribeck shape after a step: the
     // step's choice among look-alikes was then made on another base.
     let mut reshaped = false;
-    for round in 0..MAX_ROUNDS {
+    for round in 0..rounds {
         let missing: Vec<Effect> = Effect::ALL
             .into_iter()
             .filter(|&e| !fit::has_effect(&model, e) && allowed(e))
@@ -530,6 +545,8 @@ pub fn diagnose(
         floor,
         sigma0: p.sigma0,
         still: (still, p.valid().len()),
+        moving_held_out,
+        judged,
         dropped,
         steps,
         last_round,

@@ -119,6 +119,8 @@ pub fn report_json(rep: &Report) -> String {
         "rms_raw_before": rep.raw_before,
         "rms_raw_after": rep.raw_after,
         "floor": rep.floor,
+        "judged": rep.judged,
+        "moving_held_out": rep.moving_held_out,
         "noise_std": rep.sigma0,
         "floor_explains": if rep.raw_after > 0.0 { (rep.floor / rep.raw_after).powi(2).min(1.0) } else { 1.0 },
         "still_samples": rep.still.0,
@@ -163,7 +165,7 @@ pub fn report_text(rep: &Report, source: &str) -> String {
         short(rep.resolution, 3),
         rep.half_width
     );
-    let _ = writeln!(s, "residual: force along the measured motion (MODEL.md §8: compared locally), held-out time blocks 2, 5, 8 of 10");
+    let _ = writeln!(s, "residual: force along the measured motion (MODEL.md §8: compared locally), held-out blocks 2, 5, 8 of 10 (consecutive, equal numbers of moving samples)");
     let _ = writeln!(
         s,
         "measurement floor: {} N of the held-out rms is force noise (σ0 = {} N) and encoder resolution; {} of {} samples are still (friction = measured force, not scored); figures below are model error above that floor",
@@ -248,7 +250,15 @@ pub fn report_text(rep: &Report, source: &str) -> String {
         }
         let _ = writeln!(s, "        fitted: {}", effect_params(&st.model, st.effect));
     }
-    if rep.steps.is_empty() {
+    if !rep.judged {
+        let _ = writeln!(
+            s,
+            "too still to judge: {} moving samples in the held-out blocks (fewer than {} force windows of {} samples each), so no effect is named; a record with more motion is needed",
+            rep.moving_held_out,
+            fit::HELD_OUT.len() * MIN_HELD_OUT_WINDOWS,
+            2 * rep.half_width + 1
+        );
+    } else if rep.steps.is_empty() {
         let _ = writeln!(s, "no effect is missing: no candidate lowers the held-out rms by {:.0} % above the floor and removes {:.0} % of the gap with a better BIC", 100.0 * ACCEPT_GAIN, 100.0 * MIN_GAP_SHARE);
     } else {
         let _ = writeln!(
