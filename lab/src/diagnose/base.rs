@@ -98,18 +98,17 @@ pub fn base_weights(p: &mut Prepared, progress: &mut dyn FnMut(&str)) -> Model {
     // low-speed sample "explained by resolution"; such a part is dropped
     // later in any case (`dropped` in the report), so the weights are
     // taken from the model without it.
-    let steep = |e: Effect| match e {
-        Effect::Stribeck => {
-            fit::has_effect(&model, e) && (model.v_stribeck < p.v_rest || fs_at_bound(&model))
-        }
-        _ => degenerate(p, &model, e).is_some(),
-    };
-    let weigh = [Effect::Stribeck, Effect::Presliding]
-        .into_iter()
-        .filter(|&e| steep(e))
-        .fold(model.clone(), |m, e| {
-            without_effect(&m, e, || low_speed(p).unwrap_or(m.v_stribeck))
+    let mut weigh = model.clone();
+    if fit::has_effect(&model, Effect::Stribeck)
+        && (model.v_stribeck < p.v_rest || fs_at_bound(&model))
+    {
+        weigh = without_effect(&weigh, Effect::Stribeck, || {
+            low_speed(p).unwrap_or(model.v_stribeck)
         });
+    }
+    if degenerate(p, &model, Effect::Presliding).is_some() {
+        weigh = without_effect(&weigh, Effect::Presliding, || weigh.v_stribeck);
+    }
     let r1 = p.residual(&weigh);
     p.set_error_weights(&weigh, &r1);
     model

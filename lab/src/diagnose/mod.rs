@@ -57,6 +57,12 @@ pub const MAX_ROUNDS: usize = 4;
 /// effect is named on it.
 pub const MIN_HELD_OUT_WINDOWS: usize = 1;
 
+/// Fewest moving samples in the held-out blocks for a record to be judged,
+/// with force-kernel half-width `kf` ([`MIN_HELD_OUT_WINDOWS`]).
+pub fn min_moving_held_out(kf: usize) -> usize {
+    fit::HELD_OUT.len() * MIN_HELD_OUT_WINDOWS * (2 * kf + 1)
+}
+
 /// Options of the workflow.
 #[derive(Clone, Debug)]
 pub struct Options {
@@ -288,7 +294,7 @@ pub fn diagnose(
     let signals = localise_signals(&p, &r, &series);
     let allowed = |e: Effect| opts.candidates.is_empty() || opts.candidates.contains(&e);
     let moving_held_out = p.valid().filter(|&i| p.held_out[i] && !p.still[i]).count();
-    let judged = moving_held_out >= fit::HELD_OUT.len() * MIN_HELD_OUT_WINDOWS * (2 * p.kf + 1);
+    let judged = moving_held_out >= min_moving_held_out(p.kf);
     let rounds = if judged { MAX_ROUNDS } else { 0 };
     let mut steps = Vec::new();
     let mut last_round = Vec::new();

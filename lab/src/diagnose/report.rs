@@ -253,10 +253,10 @@ pub fn report_text(rep: &Report, source: &str) -> String {
     if !rep.judged {
         let _ = writeln!(
             s,
-            "too still to judge: {} moving samples in the held-out blocks (fewer than {} force windows of {} samples each), so no effect is named; a record with more motion is needed",
+            "too still to judge: {} moving samples in the held-out blocks (fewer than {}: {} force window(s) of motion per held-out block), so no effect is named; a record with more motion is needed",
             rep.moving_held_out,
-            fit::HELD_OUT.len() * MIN_HELD_OUT_WINDOWS,
-            2 * rep.half_width + 1
+            min_moving_held_out(rep.half_width),
+            MIN_HELD_OUT_WINDOWS
         );
     } else if rep.steps.is_empty() {
         let _ = writeln!(s, "no effect is missing: no candidate lowers the held-out rms by {:.0} % above the floor and removes {:.0} % of the gap with a better BIC", 100.0 * ACCEPT_GAIN, 100.0 * MIN_GAP_SHARE);
