@@ -108,10 +108,9 @@ pub struct StictionAdaptation<T: Scalar = f32> {
     filtered: [T; 2],
     /// The reference's direction at the last sample.
     direction: i8,
-    /// A window is open (after a turning point, before sliding at speed).
-    open: bool,
-    /// Window sums of Q[H_s]² and r·Q[H_s] [N²].
-    sums: [T; 2],
+    /// The open window's sums of Q[H_s]² and r·Q[H_s] [N²]; a window is
+    /// open from a turning point until sliding at speed, `None` otherwise.
+    window: Option<[T; 2]>,
 }
 
 impl StictionAdaptation<f32> {
@@ -185,8 +184,7 @@ impl<T: Scalar> StictionAdaptation<T> {
             stiction: T::ONE,
             filtered: [T::ZERO; 2],
             direction: 0,
-            open: false,
-            sums: [T::ZERO; 2],
+            window: None,
         })
     }
 
@@ -222,29 +220,31 @@ impl<T: Scalar> StictionAdaptation<T> {
         }
         let direction = feedforward.presliding().direction();
         if direction != self.direction && self.direction != 0 {
-            self.open = true;
-            self.sums = [T::ZERO; 2];
+            self.window = Some([T::ZERO; 2]);
         }
         self.direction = direction;
-        if self.open {
+        if let Some(mut sums) = self.window {
             let terms = [stiction * stiction, residual * stiction];
-            for (sum, term) in self.sums.iter_mut().zip(terms) {
+            for (sum, term) in sums.iter_mut().zip(terms) {
                 *sum = (*sum + term.saturate()).saturate();
             }
             if fast {
-                self.open = false;
-                self.close_window();
+                self.window = None;
+                self.close_window(sums);
+            } else {
+                self.window = Some(sums);
             }
         }
         Ok((self.coulomb, self.stiction))
     }
 
-    /// The least-squares stiction error of the window, applied with gain κ.
-    fn close_window(&mut self) {
-        let [ss, rs] = self.sums;
+    /// The least-squares stiction error of a closed window's `sums`,
+    /// applied with gain κ.
+    fn close_window(&mut self, sums: [T; 2]) {
+        let [ss, rs] = sums;
         // Skip a window without excitation; a saturated sum in Q16 makes the
         // fit meaningless too.
-        let finite = self.sums.iter().all(|s| s.is_finite() && s.abs() < T::MAX);
+        let finite = sums.iter().all(|s| s.is_finite() && s.abs() < T::MAX);
         if !(ss > T::ZERO && finite) {
             return;
         }
@@ -269,7 +269,6 @@ impl<T: Scalar> StictionAdaptation<T> {
         self.stiction = T::ONE;
         self.filtered = [T::ZERO; 2];
         self.direction = 0;
-        self.open = false;
-        self.sums = [T::ZERO; 2];
+        self.window = None;
     }
 }
