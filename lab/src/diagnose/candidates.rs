@@ -324,8 +324,46 @@ pub(super) fn candidate_starts(p: &Prepared, m: &Model, effect: Effect, r: &[f64
             .collect();
         out.extend(again);
     }
+    // A base model that stretched its presliding distance over a good part
+    // of the whole travel (a spring standing in for a missing offset or
+    // asymmetry: the force then follows position and direction) keeps
+    // that spring in a local fit: every start is also tried with a
+    // presliding distance of tens of counts.
+    if effect != Effect::Presliding && long_presliding(p, m) {
+        let again: Vec<Model> = out
+            .iter()
+            .flat_map(|c| {
+                PRESLIDING_RESTARTS.map(|counts| {
+                    let mut c = c.clone();
+                    c.z_max = counts * p.resolution;
+                    c
+                })
+            })
+            .collect();
+        out.extend(again);
+    }
     out.retain(|c| c.validate().is_ok());
     out
+}
+
+/// Share of the record's position range beyond which a fitted presliding
+/// distance is suspect: true ones are micrometres against millimetres of
+/// travel (0.01 of the range on the development records).
+pub const LONG_PRESLIDING: f64 = 0.25;
+
+/// Presliding distances [encoder counts] a candidate restarts from when
+/// the current one is long ([`LONG_PRESLIDING`]).
+const PRESLIDING_RESTARTS: [f64; 2] = [15.0, 60.0];
+
+/// Whether `m`'s presliding distance exceeds [`LONG_PRESLIDING`] of the
+/// range of the measured positions.
+pub(super) fn long_presliding(p: &Prepared, m: &Model) -> bool {
+    let (lo, hi) = p
+        .valid()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), i| {
+            (a.min(p.x[i]), b.max(p.x[i]))
+        });
+    fit::has_effect(m, Effect::Presliding) && m.z_max > LONG_PRESLIDING * (hi - lo)
 }
 
 /// Starting models for `dwell_stiction`: a grid over the rest threshold

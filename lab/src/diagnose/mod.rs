@@ -656,4 +656,27 @@ mod tests {
         high.fs = (1.0 + fit::FS_EXCESS_MAX) * high.fc;
         assert!(degenerate(&p, &high, Effect::Stribeck).is_some());
     }
+
+    /// A presliding distance over a quarter of the position range (4 mm
+    /// here) doubles the candidates' starts with 15 and 60 counts; a
+    /// distance of 20 counts leaves them alone.
+    #[test]
+    fn a_long_presliding_distance_is_restarted_in_the_candidate_starts() {
+        let p = prepared();
+        let r = vec![0.0; p.len()];
+        let mut short = fig5_model();
+        short.z_max = 20.0 * p.resolution;
+        let mut long = short.clone();
+        long.z_max = 2e-3;
+        assert!(!long_presliding(&p, &short) && long_presliding(&p, &long));
+        for effect in [Effect::Offset, Effect::Asymmetry, Effect::Viscous] {
+            let n = candidate_starts(&p, &short, effect, &r).len();
+            let starts = candidate_starts(&p, &long, effect, &r);
+            assert_eq!(starts.len(), 3 * n, "{effect}");
+            let z: Vec<f64> = starts[n..].iter().map(|c| c.z_max / p.resolution).collect();
+            let near = |a: f64, b: f64| (a - b).abs() < 1e-9;
+            let restarted = z.chunks(2).all(|c| near(c[0], 15.0) && near(c[1], 60.0));
+            assert!(restarted, "{effect}: {z:?}");
+        }
+    }
 }
