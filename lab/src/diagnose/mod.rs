@@ -191,8 +191,10 @@ pub struct Report {
     /// Whether the held-out blocks move enough to judge the model
     /// ([`MIN_HELD_OUT_WINDOWS`]); when not, no effect is named.
     pub judged: bool,
-    /// Parts of the start structure dropped as not identifiable, with the
-    /// reason (e.g. `stribeck`: V at its bound).
+    /// Parts of the start structure, and named effects that the final
+    /// refits ran degenerate, dropped as not identifiable, with the reason
+    /// (e.g. `stribeck`: V at its bound; `nonlinear_viscous` at n ≈ 1,
+    /// written as `viscous`).
     pub dropped: Vec<(Effect, String)>,
     /// Accepted steps.
     pub steps: Vec<Step>,
@@ -531,6 +533,43 @@ pub fn diagnose(
             }
         }
     }
+    // Each named effect was sound when its round took it, but the refits
+    // beside later effects or without a dropped base part can run it
+    // degenerate (`nonlinear_viscous` to n = 1.001 beside `drift`). Such
+    // an effect is dropped with its reason, and not reported as found;
+    // `nonlinear_viscous` at n ≈ 1 is written as `viscous` (named in its
+    // place unless `viscous` is named already). The model is refitted.
+    let mut k = 0;
+    while k < steps.len() {
+        let effect = steps[k].effect;
+        let Some(why) = degenerate(&p, &model, effect) else {
+            k += 1;
+            continue;
+        };
+        show(&format!("degenerate after refits: {effect}"));
+        let before = fit::model_error(rms, floor);
+        let as_viscous = (effect == Effect::NonlinearViscous)
+            .then(|| nonlinear_viscous_as_viscous(&model))
+            .flatten();
+        let renamed = as_viscous.is_some() && !steps.iter().any(|s| s.effect == Effect::Viscous);
+        let next = as_viscous.unwrap_or_else(|| remove_effect(&model, effect, &p));
+        let params = fit::params_of(&next);
+        model = fit::fit(&p, &next, &params, &FitOptions::default(), &mut |_| {}).model;
+        (rms, r) = held_rms(&p, &model);
+        if renamed {
+            let after = fit::model_error(rms, floor);
+            dropped.push((
+                effect,
+                format!("{why}: written as `viscous`, model error {before:.4e} N -> {after:.4e} N"),
+            ));
+            steps[k].effect = Effect::Viscous;
+            steps[k].model = model.clone();
+            k += 1;
+        } else {
+            dropped.push((effect, why));
+            steps.remove(k);
+        }
+    }
     let model = tidy(&p, model);
     progress.finish();
     let still = p.valid().filter(|&i| p.still[i]).count();
@@ -655,6 +694,29 @@ mod tests {
         let mut high = sound.clone();
         high.fs = (1.0 + fit::FS_EXCESS_MAX) * high.fc;
         assert!(degenerate(&p, &high, Effect::Stribeck).is_some());
+    }
+
+    /// `nonlinear_viscous` within the band around n = 1 is written as
+    /// viscous friction with σ increased by σ_n; outside the band, or
+    /// without the term, there is nothing to write.
+    #[test]
+    fn nonlinear_viscous_near_one_is_written_as_viscous() {
+        let mut m = fig5_model();
+        m.sigma = 2.0;
+        m.effects.nonlinear_viscous = Some(NonlinearViscous {
+            sigma_n: 3.0,
+            n: 1.05,
+        });
+        let v = nonlinear_viscous_as_viscous(&m).expect("n within the band");
+        assert_eq!((v.sigma, v.effects.nonlinear_viscous), (5.0, None));
+        assert!(nonlinear_viscous_degenerate(&m).is_some());
+        m.effects.nonlinear_viscous = Some(NonlinearViscous {
+            sigma_n: 3.0,
+            n: 1.0 + NV_VISCOUS_BAND,
+        });
+        assert!(nonlinear_viscous_as_viscous(&m).is_none());
+        m.effects.nonlinear_viscous = None;
+        assert!(nonlinear_viscous_as_viscous(&m).is_none());
     }
 
     /// A presliding distance over a quarter of the position range (4 mm

@@ -304,6 +304,24 @@ pub fn degenerate(p: &Prepared, m: &Model, effect: Effect) -> Option<String> {
 /// beside `viscous` and moved Fc by a third).
 pub const NV_MIN_EXPONENT: f64 = 0.15;
 
+/// Distance of the exponent `n` from 1 within which `nonlinear_viscous`
+/// is `viscous` (`σ_n·sgn(v)·|v|^n` with `n = 1` is `σ_n·v`).
+pub const NV_VISCOUS_BAND: f64 = 0.1;
+
+/// `m` with a `nonlinear_viscous` term whose exponent lies within
+/// [`NV_VISCOUS_BAND`] of 1 written as viscous friction (`σ += σ_n`), or
+/// `None` when `m` holds no such term.
+pub(super) fn nonlinear_viscous_as_viscous(m: &Model) -> Option<Model> {
+    let nv = m
+        .effects
+        .nonlinear_viscous
+        .filter(|nv| (nv.n - 1.0).abs() < NV_VISCOUS_BAND)?;
+    let mut c = m.clone();
+    c.sigma += nv.sigma_n;
+    c.effects.nonlinear_viscous = None;
+    Some(c)
+}
+
 /// Why `m`'s `nonlinear_viscous` term is not a finding, or `None`:
 /// `n = 1` is `viscous` (MODEL.md §5 names it only for n ≠ 1), and an `n`
 /// at the lower bound of [`fit::NV_EXP_RANGE`] is not identified (the upper, 2, is MODEL.md's limit),
@@ -311,7 +329,7 @@ pub const NV_MIN_EXPONENT: f64 = 0.15;
 pub fn nonlinear_viscous_degenerate(m: &Model) -> Option<String> {
     let nv = m.effects.nonlinear_viscous?;
     let near = |x: f64, bound: f64| (x / bound).ln().abs() < 0.02;
-    if (nv.n - 1.0).abs() < 0.1 {
+    if (nv.n - 1.0).abs() < NV_VISCOUS_BAND {
         Some(format!("n = {:.3} is viscous", nv.n))
     } else if near(nv.n, fit::NV_EXP_RANGE.0) {
         // The upper end, n = 2, is MODEL.md's own limit and a valid value;
