@@ -348,7 +348,9 @@ pub(super) fn candidate_starts(p: &Prepared, m: &Model, effect: Effect, r: &[f64
 
 /// Share of the record's position range beyond which a fitted presliding
 /// distance is suspect: true ones are micrometres against millimetres of
-/// travel (0.01 of the range on the development records).
+/// travel (on the 359 time records of the MODEL.md plant among the
+/// development seeds, median 0.0003 of the range, 90 % below 0.005, and
+/// 3 above 0.25: records that hardly move).
 pub const LONG_PRESLIDING: f64 = 0.25;
 
 /// Presliding distances [encoder counts] a candidate restarts from when

@@ -551,12 +551,13 @@ pub fn diagnose(
         let as_viscous = (effect == Effect::NonlinearViscous)
             .then(|| nonlinear_viscous_as_viscous(&model))
             .flatten();
-        let renamed = as_viscous.is_some() && !steps.iter().any(|s| s.effect == Effect::Viscous);
+        let written = as_viscous.is_some();
+        let viscous_named = steps.iter().any(|s| s.effect == Effect::Viscous);
         let next = as_viscous.unwrap_or_else(|| remove_effect(&model, effect, &p));
         let params = fit::params_of(&next);
         model = fit::fit(&p, &next, &params, &FitOptions::default(), &mut |_| {}).model;
         (rms, r) = held_rms(&p, &model);
-        if renamed {
+        if written && !viscous_named {
             let after = fit::model_error(rms, floor);
             dropped.push((
                 effect,
@@ -566,6 +567,11 @@ pub fn diagnose(
             steps[k].model = model.clone();
             k += 1;
         } else {
+            let why = if written {
+                format!("{why}: merged into the named `viscous`")
+            } else {
+                why
+            };
             dropped.push((effect, why));
             steps.remove(k);
         }
