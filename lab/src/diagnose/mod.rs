@@ -709,19 +709,15 @@ mod tests {
     fn nonlinear_viscous_near_one_is_written_as_viscous() {
         let mut m = fig5_model();
         m.sigma = 2.0;
-        m.effects.nonlinear_viscous = Some(NonlinearViscous {
-            sigma_n: 3.0,
-            n: 1.05,
-        });
-        let v = nonlinear_viscous_as_viscous(&m).expect("n within the band");
+        let with_n = |n| {
+            let mut c = m.clone();
+            c.effects.nonlinear_viscous = Some(NonlinearViscous { sigma_n: 3.0, n });
+            c
+        };
+        let v = nonlinear_viscous_as_viscous(&with_n(1.05)).expect("n within the band");
         assert_eq!((v.sigma, v.effects.nonlinear_viscous), (5.0, None));
-        assert!(nonlinear_viscous_degenerate(&m).is_some());
-        m.effects.nonlinear_viscous = Some(NonlinearViscous {
-            sigma_n: 3.0,
-            n: 1.0 + NV_VISCOUS_BAND,
-        });
-        assert!(nonlinear_viscous_as_viscous(&m).is_none());
-        m.effects.nonlinear_viscous = None;
+        assert!(nonlinear_viscous_degenerate(&with_n(1.05)).is_some());
+        assert!(nonlinear_viscous_as_viscous(&with_n(1.0 + NV_VISCOUS_BAND)).is_none());
         assert!(nonlinear_viscous_as_viscous(&m).is_none());
     }
 
