@@ -556,19 +556,20 @@ impl Prepared {
     fn set_split(&mut self) {
         let n = self.len();
         let valid = self.valid();
-        let scored = valid.clone().filter(|&i| !self.still[i]).count();
+        let is_scored: Vec<bool> = (0..n)
+            .map(|i| valid.contains(&i) && !self.still[i])
+            .collect();
+        let scored = is_scored.iter().filter(|s| **s).count();
         let (t0, t1) = (self.t[0], self.t[n - 1]);
         let mut before = 0;
-        for i in 0..n {
+        for (i, counts) in is_scored.into_iter().enumerate() {
             let b = if scored >= BLOCKS {
                 before * BLOCKS / scored
             } else {
                 (((self.t[i] - t0) / (t1 - t0)) * BLOCKS as f64) as usize
             };
             self.held_out[i] = HELD_OUT.contains(&b.min(BLOCKS - 1));
-            if valid.contains(&i) && !self.still[i] {
-                before += 1;
-            }
+            before += usize::from(counts);
         }
     }
 

@@ -22,7 +22,7 @@
 //! its range is not a finding. The gap is the held-out RMS itself; the
 //! report gives the noise beside it.
 
-use crate::diagnose::{self, required_gain};
+use crate::diagnose::{self, quantile, required_gain};
 use crate::fit::{self, FitOptions, Param, Residuals};
 use crate::reference::{stribeck, Asymmetry, Effect, Effects, Model, NonlinearViscous, Offset};
 use crate::static_curve::Point;
@@ -79,12 +79,6 @@ pub fn steady_force(m: &Model, v: f64) -> f64 {
 /// Least number of mirrored speed pairs for the noise estimate from the
 /// sums `F(v) + F(−v)` ([`SteadyRecord::noise`]).
 const MIN_MIRRORED_PAIRS: usize = 3;
-
-/// The middle element of `v` after sorting (`None` when empty).
-fn median(v: &mut [f64]) -> Option<f64> {
-    v.sort_by(f64::total_cmp);
-    v.get(v.len() / 2).copied()
-}
 
 /// A steady-state record prepared for fitting.
 #[derive(Clone, Debug)]
@@ -149,7 +143,11 @@ impl SteadyRecord {
                     .map(|w| (w[0].tau - 2.0 * w[1].tau + w[2].tau).abs()),
             );
         }
-        let curvature = median(&mut d).map_or(0.0, |m| m / (0.6745 * 6f64.sqrt()));
+        let curvature = if d.is_empty() {
+            0.0
+        } else {
+            quantile(&mut d, 0.5) / (0.6745 * 6f64.sqrt())
+        };
         let mut sums: Vec<f64> = self
             .points
             .iter()
@@ -159,14 +157,13 @@ impl SteadyRecord {
                 Some(p.tau + mirror.tau)
             })
             .collect();
-        let pairs = match median(&mut sums) {
-            Some(centre) if sums.len() >= MIN_MIRRORED_PAIRS => {
-                let mut dev: Vec<f64> = sums.iter().map(|s| (s - centre).abs()).collect();
-                median(&mut dev).map(|m| m / (0.6745 * 2f64.sqrt()))
-            }
-            _ => None,
-        };
-        pairs.map_or(curvature, |p| p.min(curvature))
+        if sums.len() < MIN_MIRRORED_PAIRS {
+            return curvature;
+        }
+        let centre = quantile(&mut sums, 0.5);
+        let mut dev: Vec<f64> = sums.iter().map(|s| (s - centre).abs()).collect();
+        let pairs = quantile(&mut dev, 0.5) / (0.6745 * 2f64.sqrt());
+        pairs.min(curvature)
     }
 
     fn count(&self, held_out: bool) -> usize {

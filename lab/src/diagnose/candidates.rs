@@ -58,7 +58,9 @@ pub(super) fn fit_multistart(
     first.unwrap_or_else(|| starts.first().cloned().unwrap_or_else(fig5_model))
 }
 
-pub(super) fn quantile(v: &mut [f64], q: f64) -> f64 {
+/// The `q` quantile of `v` (sorted in place; the element at
+/// `round((len − 1)·q)`, NaN when empty).
+pub(crate) fn quantile(v: &mut [f64], q: f64) -> f64 {
     if v.is_empty() {
         return f64::NAN;
     }
