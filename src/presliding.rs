@@ -308,17 +308,12 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
 
     /// The end of [`update_at`](Self::update_at) where g is not evaluated
     /// without a call: H by [`follow`](Self::follow)'s branch, the stores;
-    /// returns F.
+    /// returns F. `x` is the sample's position, `level` the signed level
+    /// d·S, `viscous` σ·v.
     #[inline(never)]
-    fn finish<C: Curves<T>>(
-        &mut self,
-        model: &Model<T, C>,
-        position: P,
-        stribeck: T,
-        viscous: T,
-    ) -> T {
-        self.extremum = position;
-        self.dry = self.towards_steady_state(model, self.base, position, stribeck);
+    fn finish<C: Curves<T>>(&mut self, model: &Model<T, C>, x: P, level: T, viscous: T) -> T {
+        self.extremum = x;
+        self.dry = self.towards_steady_state(model, self.base, x, level);
         self.force = self.dry + viscous;
         self.force
     }
@@ -464,9 +459,9 @@ impl<P: Position<T>, T: Scalar, const N: usize> Presliding<P, T, N> {
     /// Dry friction H on the current branch at `position`, the extremum of
     /// the branch.
     #[inline(always)]
-    fn follow<C: Curves<T>>(
+    fn follow(
         &mut self,
-        model: &Model<T, C>,
+        model: &Model<T, impl Curves<T>>,
         position: P,
         velocity: T,
         coulomb: bool,

@@ -157,6 +157,34 @@ impl<T: Scalar> LevelAdaptation<T> {
     /// presliding). Returns θ [-]. Frozen unless sliding with |velocity| ≥
     /// min_speed and H ≠ 0; a non-finite input is rejected and leaves θ
     /// unchanged.
+    ///
+    /// Wired to a [`Feedforward`](super::Feedforward): its H and sliding
+    /// flag are the regressor and the gate, θ goes back to it. Here the
+    /// plant's levels are 20 % above the model's, and r is what the
+    /// observer would report, the friction the scaled feedforward misses:
+    ///
+    /// ```
+    /// use breakaway::compensation::{AdaptationConfig, Feedforward, FeedforwardConfig,
+    ///     LevelAdaptation};
+    /// use breakaway::{Model, Params};
+    /// let model = Model::<f32>::new(Params { fc: 1.0, fs: 1.5, v_stribeck: 1e-3,
+    ///     delta: 1.0, sigma: 0.0, z_max: 1e-5, epsilon: 0.0 })?;
+    /// let mut ff = Feedforward::<i64>::new(FeedforwardConfig::default(), 0, 1e-8).unwrap();
+    /// let config = AdaptationConfig { rate: 5.0, min_scale: 0.5, max_scale: 2.0,
+    ///     min_speed: 1e-4, period: 1e-3 };
+    /// let mut level = LevelAdaptation::new(config).unwrap();
+    /// let v = 5e-3; // m/s: 500 counts of 10 nm per 1 ms period
+    /// for k in 0..2000i64 {
+    ///     let u_ff = ff.update(&model, 500 * k, v).unwrap();
+    ///     let r = 1.2 * ff.dry() - u_ff; // the plant's friction minus the feedforward
+    ///     let theta = level.update(r, ff.dry(), v, ff.is_sliding()).unwrap();
+    ///     ff.set_level_scale(theta);
+    /// }
+    /// assert!((level.scale() - 1.2).abs() < 1e-3);
+    /// // Frozen in presliding, whatever r says.
+    /// assert_eq!(level.update(0.5, ff.dry(), v, false).unwrap(), level.scale());
+    /// # Ok::<(), breakaway::ParamError>(())
+    /// ```
     pub fn update(
         &mut self,
         residual: T,

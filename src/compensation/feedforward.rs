@@ -175,9 +175,9 @@ impl<P: Position<T>, T: Scalar, const N: usize> Feedforward<P, T, N> {
     /// [m/s]; model units for fixed point) and returns the compensation
     /// force u_ff [N] (model units). A non-finite sample is rejected and
     /// leaves the state unchanged.
-    pub fn update<C: Curves<T>>(
+    pub fn update(
         &mut self,
-        model: &Model<T, C>,
+        model: &Model<T, impl Curves<T>>,
         x_ref: P,
         v_ref: T,
     ) -> Result<T, SampleError> {
