@@ -9,8 +9,6 @@
 #![no_main]
 #![allow(unsafe_code)] // cortex-m-rt's `#[exception]` handler is an `unsafe fn`
 
-#[path = "common/mod.rs"]
-mod common;
 #[path = "common/closed_loop.rs"]
 mod harness;
 
@@ -20,7 +18,7 @@ use breakaway::compensation::{
 use breakaway::Model;
 use cortex_m_rt::entry;
 use cortex_m_semihosting::hprintln;
-use harness::Inputs;
+use harness::{common, Inputs};
 
 /// Compensators: (name, feedforward 0 none, 1 Coulomb, 2 Stribeck,
 /// 3 presliding; observer; adaptation), as the host benchmark names them.

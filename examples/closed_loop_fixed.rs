@@ -10,8 +10,6 @@
 #![no_main]
 #![allow(unsafe_code)] // cortex-m-rt's `#[exception]` handler is an `unsafe fn`
 
-#[path = "common/mod.rs"]
-mod common;
 #[path = "common/closed_loop.rs"]
 mod harness;
 
@@ -21,7 +19,7 @@ use breakaway::compensation::{
 use breakaway::{Model, Scalar, Q16};
 use cortex_m_rt::entry;
 use cortex_m_semihosting::hprintln;
-use harness::Inputs;
+use harness::{common, Inputs};
 
 /// Metres per encoder count of the reference position.
 const COUNT: f32 = 1e-8;

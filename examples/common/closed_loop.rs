@@ -15,6 +15,13 @@
 //! Output: `cfg …` (the constants, which `cargo xtask test` checks against
 //! the host benchmark's), then per run `cl <name> <encoder m> <rms_error m>
 //! <peak_reversal_error m> <rms_effort N>`.
+//!
+//! It brings the firmware plumbing it runs on (`common/mod.rs`) as
+//! `harness::common`, so that an example declares the harness alone.
+
+// `common/mod.rs`, beside this file.
+#[path = "mod.rs"]
+pub mod common;
 
 use breakaway::compensation::{ObserverConfig, StictionConfig, VelocityConfig, VelocityEstimator};
 use breakaway::{Model, Presliding};
@@ -55,7 +62,7 @@ pub const ADAPTATION: StictionConfig = StictionConfig {
     min_scale: 0.5,
     max_scale: 2.0,
     max_stiction_scale: 3.0,
-    min_speed: crate::common::FIG5.v_stribeck,
+    min_speed: common::FIG5.v_stribeck,
     period: PERIOD,
 };
 
@@ -136,7 +143,7 @@ pub fn run(
         None
     };
     let mut plant = Plant {
-        model: Model::new(crate::common::CLOSED_LOOP_PLANT).ok()?,
+        model: Model::new(common::CLOSED_LOOP_PLANT).ok()?,
         friction: Presliding::at(0.0),
         x: 0.0,
         x_lo: 0.0,
