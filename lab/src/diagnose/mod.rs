@@ -257,6 +257,51 @@ fn fit_candidate(p: &Prepared, base: &Model, r: &[f64], effect: Effect) -> Optio
     fit::has_effect(&fitted, effect).then_some(fitted)
 }
 
+/// `nonlinear_viscous` holds `viscous` (n = 1), but its start grid (n of
+/// 0.3, 0.6, 1.5 and 2 with σ_n regressed on the residual) can leave its
+/// fit in a local minimum behind the special case: on the fresh draw
+/// 1400000–, of three records with `nonlinear_viscous` hidden at 55–78×
+/// the noise and named `viscous`, two had it fitted to 1.3 and 8 times
+/// the held-out rms of `viscous` in the first round, the third not at all.
+/// So among a round's fits it is also fitted from the fitted `viscous`
+/// candidate (σ_n = σ, n = 1, σ = 0), and that fit takes its place when it
+/// is sound (n outside the band around 1 among others, see
+/// [`degenerate`]) and closer on the held-out blocks. Which of the two is
+/// named is still [`prefer_nested`]'s rule. On the time records of the
+/// draws 1200000– and 1400000– (development records since): 161 → 162 of
+/// 276 named exactly, `nonlinear_viscous` detected on 3 more, one
+/// `viscous` record named `nonlinear_viscous` (n = 1.13) and one the other
+/// way round, no false positive added.
+fn nonlinear_from_viscous(p: &Prepared, base: &Model, fits: &mut Vec<Option<(Effect, Model)>>) {
+    let fitted = |e: Effect| fits.iter().flatten().find(|(x, _)| *x == e).map(|(_, m)| m);
+    let Some(viscous) = fitted(Effect::Viscous) else {
+        return;
+    };
+    let mut start = viscous.clone();
+    start.effects.nonlinear_viscous = Some(NonlinearViscous {
+        sigma_n: start.sigma,
+        n: 1.0,
+    });
+    start.sigma = 0.0;
+    let params = fit::params_of(&start);
+    let general = fit::fit(p, &start, &params, &FitOptions::default(), &mut |_| {}).model;
+    if !sound_fit(p, base, &general, Effect::NonlinearViscous) {
+        return;
+    }
+    let rms = held_rms(p, &general).0;
+    if fitted(Effect::NonlinearViscous).is_some_and(|m| held_rms(p, m).0 <= rms) {
+        return;
+    }
+    let entry = Some((Effect::NonlinearViscous, general));
+    match fits.iter().position(|f| {
+        f.as_ref()
+            .is_some_and(|(x, _)| *x == Effect::NonlinearViscous)
+    }) {
+        Some(k) => fits[k] = entry,
+        None => fits.push(entry),
+    }
+}
+
 /// Runs the workflow on `rec` from `start` (`None`: the base model
 /// identified from the data).
 pub fn diagnose(
@@ -336,10 +381,11 @@ pub fn diagnose(
                 .collect::<Vec<_>>()
                 .join(", ")
         ));
-        let fits: Vec<Option<(Effect, Model)>> = missing
+        let mut fits: Vec<Option<(Effect, Model)>> = missing
             .par_iter()
             .map(|&effect| fit_candidate(&p, &model, &r, effect).map(|m| (effect, m)))
             .collect();
+        nonlinear_from_viscous(&p, &model, &mut fits);
         for (effect, fitted) in fits.into_iter().flatten() {
             // Dwell *time* stiction must make the break-away depend on the
             // rest length; a γ far below every rest of the record only
@@ -719,6 +765,74 @@ mod tests {
         assert!(nonlinear_viscous_degenerate(&with_n(1.05)).is_some());
         assert!(nonlinear_viscous_as_viscous(&with_n(1.0 + NV_VISCOUS_BAND)).is_none());
         assert!(nonlinear_viscous_as_viscous(&m).is_none());
+    }
+
+    /// On a record of speed plateaus from 5 to 40 mm/s (5 to 40 V) whose
+    /// velocity strengthening is `nonlinear_viscous` with n = 0.5 (the
+    /// force computed along the measured motion), the general form fitted
+    /// from the fitted `viscous` candidate ends sound and takes the place
+    /// of a `nonlinear_viscous` fit stuck at n = 1.8, at less than half its
+    /// held-out rms.
+    #[test]
+    fn the_general_viscous_form_is_fitted_from_the_special_one() {
+        let plateaus = [5e-3, -10e-3, 20e-3, -40e-3, 40e-3, -20e-3, 10e-3, -5e-3];
+        let t: Vec<f64> = (0..2000).map(|i| i as f64 * 1e-3).collect();
+        let (mut v, mut x) = (0.0f64, 0.0f64);
+        let mut xs = Vec::with_capacity(t.len());
+        for &ti in &t {
+            // First-order transitions (10 ms) between the plateaus.
+            v += 0.1 * (plateaus[((ti / 0.25) as usize).min(7)] - v);
+            x += v * 1e-3;
+            xs.push((x / 1e-6).round() * 1e-6);
+        }
+        let window = Window {
+            velocity: 4,
+            force: 32,
+        };
+        let record = |u: Vec<f64>| Record {
+            u,
+            t: t.clone(),
+            x: xs.clone(),
+            v: None,
+            source: "test".into(),
+        };
+        let mut truth = fig5_model();
+        truth.effects.nonlinear_viscous = Some(NonlinearViscous {
+            sigma_n: 4.0,
+            n: 0.5,
+        });
+        let p0 = Prepared::with_window(&record(vec![0.0; t.len()]), window);
+        let f = p0.friction(&truth);
+        let u = (0..t.len()).map(|i| truth.mass * p0.a[i] + f[i]).collect();
+        let p = Prepared::with_window(&record(u), window);
+        let base = fig5_model();
+        let r = p.residual(&base);
+        let viscous = fit_candidate(&p, &base, &r, Effect::Viscous).expect("a viscous fit");
+        let mut poor = base.clone();
+        poor.effects.nonlinear_viscous = Some(NonlinearViscous {
+            sigma_n: 1.0,
+            n: 1.8,
+        });
+        let poor_rms = held_rms(&p, &poor).0;
+        let mut fits = vec![
+            Some((Effect::Viscous, viscous.clone())),
+            Some((Effect::NonlinearViscous, poor)),
+        ];
+        nonlinear_from_viscous(&p, &base, &mut fits);
+        let Some((Effect::NonlinearViscous, general)) = fits[1].clone() else {
+            panic!("{fits:?}");
+        };
+        assert!(sound_fit(&p, &base, &general, Effect::NonlinearViscous));
+        let rms = held_rms(&p, &general).0;
+        assert!(rms < 0.5 * poor_rms, "{rms} against {poor_rms}");
+        // A closer fit already in place stays; without `viscous` nothing
+        // is fitted.
+        let before = fits.clone();
+        nonlinear_from_viscous(&p, &base, &mut fits);
+        assert_eq!(fits, before);
+        let mut alone = vec![None, before[1].clone()];
+        nonlinear_from_viscous(&p, &base, &mut alone);
+        assert_eq!(alone, vec![None, before[1].clone()]);
     }
 
     /// A presliding distance over a quarter of the position range (4 mm
