@@ -273,31 +273,30 @@ fn fit_candidate(p: &Prepared, base: &Model, r: &[f64], effect: Effect) -> Optio
 /// `viscous` record named `nonlinear_viscous` (n = 1.13) and one the other
 /// way round, no false positive added.
 fn nonlinear_from_viscous(p: &Prepared, base: &Model, fits: &mut Vec<Option<(Effect, Model)>>) {
-    let fitted = |e: Effect| fits.iter().flatten().find(|(x, _)| *x == e).map(|(_, m)| m);
-    let Some(viscous) = fitted(Effect::Viscous) else {
+    let slot = |fits: &[Option<(Effect, Model)>], e: Effect| {
+        fits.iter()
+            .position(|f| f.as_ref().is_some_and(|(x, _)| *x == e))
+    };
+    let Some((_, viscous)) = slot(fits, Effect::Viscous).and_then(|k| fits[k].as_ref()) else {
         return;
     };
-    let mut start = viscous.clone();
-    start.effects.nonlinear_viscous = Some(NonlinearViscous {
-        sigma_n: start.sigma,
-        n: 1.0,
-    });
-    start.sigma = 0.0;
+    let start = viscous_as_nonlinear(viscous);
     let params = fit::params_of(&start);
     let general = fit::fit(p, &start, &params, &FitOptions::default(), &mut |_| {}).model;
     if !sound_fit(p, base, &general, Effect::NonlinearViscous) {
         return;
     }
     let rms = held_rms(p, &general).0;
-    if fitted(Effect::NonlinearViscous).is_some_and(|m| held_rms(p, m).0 <= rms) {
-        return;
-    }
     let entry = Some((Effect::NonlinearViscous, general));
-    match fits.iter().position(|f| {
-        f.as_ref()
-            .is_some_and(|(x, _)| *x == Effect::NonlinearViscous)
-    }) {
-        Some(k) => fits[k] = entry,
+    match slot(fits, Effect::NonlinearViscous) {
+        Some(k) => {
+            if fits[k]
+                .as_ref()
+                .is_some_and(|(_, m)| held_rms(p, m).0 > rms)
+            {
+                fits[k] = entry;
+            }
+        }
         None => fits.push(entry),
     }
 }

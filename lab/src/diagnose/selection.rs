@@ -322,6 +322,19 @@ pub(super) fn nonlinear_viscous_as_viscous(m: &Model) -> Option<Model> {
     Some(c)
 }
 
+/// The converse of [`nonlinear_viscous_as_viscous`]: `m`'s viscous
+/// friction written as `nonlinear_viscous` with n = 1 (`σ_n = σ`, `σ = 0`),
+/// the same force; a start from which the general form can leave n = 1.
+pub(super) fn viscous_as_nonlinear(m: &Model) -> Model {
+    let mut c = m.clone();
+    c.effects.nonlinear_viscous = Some(NonlinearViscous {
+        sigma_n: c.sigma,
+        n: 1.0,
+    });
+    c.sigma = 0.0;
+    c
+}
+
 /// Why `m`'s `nonlinear_viscous` term is not a finding, or `None`:
 /// `n = 1` is `viscous` (MODEL.md §5 names it only for n ≠ 1), and an `n`
 /// at the lower bound of [`fit::NV_EXP_RANGE`] is not identified (the upper, 2, is MODEL.md's limit),
