@@ -117,18 +117,12 @@ pub fn base_weights(p: &mut Prepared, progress: &mut dyn FnMut(&str)) -> Model {
 /// The 20 % quantile of the moving speeds [m/s] (`None` without moving
 /// samples): where a Stribeck search starts.
 pub(super) fn low_speed(p: &Prepared) -> Option<f64> {
-    moving_speed_quantile(p, 0.2)
-}
-
-/// The `q` quantile of the moving speeds `|v̂| > v_rest` [m/s] (`None`
-/// without moving samples).
-fn moving_speed_quantile(p: &Prepared, q: f64) -> Option<f64> {
     let mut speeds: Vec<f64> = p
         .valid()
         .map(|i| p.v[i].abs())
         .filter(|s| *s > p.v_rest)
         .collect();
-    let v = quantile(&mut speeds, q);
+    let v = quantile(&mut speeds, 0.2);
     (v.is_finite() && v > 0.0).then_some(v)
 }
 
@@ -164,14 +158,11 @@ pub(super) fn dip_seeds(p: &Prepared, m: &Model) -> Vec<Model> {
 }
 
 /// Restarts of the base shape: `V` at 0.3, 1 and 3 times the 20 % speed
-/// quantile and on by factors of √10 up to the 90 % quantile
-/// ([`restart_speed_factors`]), δ = 1 and 2, `Fs = 1.4·Fc`, the rest of `m`
-/// kept.
+/// quantile, δ = 1 and 2, `Fs = 1.4·Fc`, the rest of `m` kept.
 pub(super) fn restarts(p: &Prepared, m: &Model) -> Vec<Model> {
     let v_lo = low_speed(p).unwrap_or(1e-3);
-    let v_hi = moving_speed_quantile(p, 0.9).unwrap_or(v_lo);
     let mut out = vec![m.clone()];
-    for vf in restart_speed_factors(v_lo, v_hi) {
+    for vf in [0.3, 1.0, 3.0] {
         for delta in [1.0, 2.0] {
             let mut c = m.clone();
             c.fs = 1.4 * c.fc;
@@ -181,32 +172,6 @@ pub(super) fn restarts(p: &Prepared, m: &Model) -> Vec<Model> {
         }
     }
     out
-}
-
-/// Most Stribeck speeds [`restarts`] tries.
-pub const MAX_RESTART_SPEEDS: usize = 9;
-
-/// The Stribeck speeds of [`restarts`] as factors of the 20 % speed
-/// quantile `v_lo` [m/s]: 0.3, 1 and 3, then on by √10 while the speed
-/// stays at or below the 90 % quantile `v_hi` [m/s], at most
-/// [`MAX_RESTART_SPEEDS`].
-///
-/// Records with long slow stretches (creep at the end of a move, ramps that
-/// break away slowly) put the 20 % quantile orders of magnitude below the
-/// Stribeck speed, and the base fit then runs its dip to a bound (V = 1e-9
-/// m/s, Fs = Fc), from which the first three factors may not lead back.
-/// On seed 1200038 (velocity loop, `frictional_lag` hidden, V = 3.3 mm/s)
-/// the restart from V = 16 mm/s takes the base model's error from 0.593 to
-/// 0.398 N, and the hidden lag is named (τ = 200.1 ms, true 200 ms;
-/// V = 3.35 mm/s, Fs = 20.82 N, true 20.85 N).
-pub(super) fn restart_speed_factors(v_lo: f64, v_hi: f64) -> Vec<f64> {
-    let mut f = vec![0.3, 1.0, 3.0];
-    let mut next = 3.0 * 10f64.sqrt();
-    while next * v_lo <= v_hi && f.len() < MAX_RESTART_SPEEDS {
-        f.push(next);
-        next *= 10f64.sqrt();
-    }
-    f
 }
 
 /// Drops the parts of the base structure that the record does not

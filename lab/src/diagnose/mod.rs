@@ -686,25 +686,6 @@ mod tests {
         )
     }
 
-    /// The restarts of a lost dip reach the record's fast speeds by steps
-    /// of √10, never past its 90 % quantile, at most nine of them; a record
-    /// whose speeds span less than a decade keeps the three first.
-    #[test]
-    fn the_dip_restarts_span_the_speeds_of_the_record() {
-        let f = base::restart_speed_factors(1e-5, 4e-3);
-        assert_eq!(f.len(), 7);
-        assert!(f.windows(2).all(|w| w[1] > w[0]));
-        assert!(f[6] * 1e-5 <= 4e-3 && f[6] * 1e-5 * 10f64.sqrt() > 4e-3);
-        assert_eq!(
-            base::restart_speed_factors(1e-6, 1.0).len(),
-            base::MAX_RESTART_SPEEDS
-        );
-        assert_eq!(base::restart_speed_factors(1e-3, 2e-3), vec![0.3, 1.0, 3.0]);
-        let p = prepared();
-        let m = fig5_model();
-        assert_eq!(base::restarts(&p, &m).len(), 1 + 2 * 3);
-    }
-
     /// A dip at the top of its range is degenerate, a candidate that runs
     /// a dip there is held back (unless the current model's was there
     /// already), and `simplify` drops it even when it helps the fit.
