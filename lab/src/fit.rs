@@ -612,7 +612,7 @@ impl Prepared {
     ///
     /// ```text
     /// var_i = σ0² + (q²/12)·(Σ_j W_j·|∂F/∂x|_{i+j})² + σ_v²·(Σ_j W_j·|∂F/∂v|_{i+j})²
-    ///             + (1/12)·(Σ_j W_j·ΔF_{i+j})²
+    ///             + (1/12)·(Σ_j W_j·ΔF_{i+j})² + (1/12)·(Σ_j W_j·U_{i+j})²
     /// ```
     ///
     /// * `σ0` [N]: the force noise through the kernel, the lower of two
@@ -635,7 +635,15 @@ impl Prepared {
     ///   change (on three effect-free development records of the MODEL.md
     ///   plant where `frictional_lag` was named falsely, the generator's
     ///   own model had 0.06–0.23 N of model error without this term,
-    ///   0.008–0.13 N with it).
+    ///   0.008–0.13 N with it);
+    /// * `U = 2·max(Fs, Fc)` [N] at moving samples slower than one count per
+    ///   sample, 0 elsewhere (version 7.0): there the axis may stick, slip
+    ///   and reverse by less than a count between two samples, unseen, and
+    ///   the presliding memory is anywhere in its range (on a servo record
+    ///   of the development draws with a position ripple, the generator's
+    ///   plant reversed in bursts of about 1 ms while the counts fell
+    ///   steadily; its own model's error was 0.21 N without this term,
+    ///   0.040 N with it).
     ///
     /// Each sample's class weight is multiplied by `σ0²/var_i` (≤ 1); the
     /// variances are kept for [`Prepared::floor`]. Called once per record
@@ -710,6 +718,22 @@ impl Prepared {
         let within: Vec<f64> = (0..n)
             .map(|i| (sx[i] * self.v[i].abs() + sv[i] * self.a[i].abs()) * self.dt)
             .collect();
+        // Where the axis moves by less than a count per sample and is not
+        // still, it may stick and slip, and reverse, between two samples
+        // by less than a count (a limit cycle faster than the sampling,
+        // which the counts cannot show): the presliding memory, and with
+        // it the dry friction, is then anywhere between −S and S. Such a
+        // sample's friction is known only to that range, `2·Fs` [N].
+        let hidden_reversal: Vec<f64> = (0..n)
+            .map(|i| {
+                let slow = self.v[i].abs() * self.dt < self.resolution;
+                if slow && !self.still[i] {
+                    2.0 * m.fs.max(m.fc)
+                } else {
+                    0.0
+                }
+            })
+            .collect();
         let c1_norm = 1.0 / ((self.k * (self.k + 1) * (2 * self.k + 1)) as f64 / 3.0).sqrt();
         let sigma_v2 = q2 * (c1_norm / self.dt).powi(2);
         self.set_weights();
@@ -718,6 +742,7 @@ impl Prepared {
             let a = self.filter_at(&sx, i).abs();
             let b = self.filter_at(&sv, i).abs();
             let c = self.filter_at(&within, i);
+            let d = self.filter_at(&hidden_reversal, i);
             let acc = if curved[i] { var_acc } else { 0.0 };
             // Neither term can exceed the friction's whole range.
             let cap = (2.0 * m.fs.max(m.fc)).powi(2);
@@ -725,7 +750,8 @@ impl Prepared {
                 + acc
                 + (q2 * a * a).min(cap)
                 + (sigma_v2 * b * b).min(cap)
-                + (c * c / 12.0).min(cap);
+                + (c * c / 12.0).min(cap)
+                + (d * d / 12.0).min(cap);
             self.var[i] = var;
             self.weight[i] *= sigma0 * sigma0 / var;
         }
@@ -1730,6 +1756,45 @@ mod tests {
             }
         });
         assert!(td > 1.9 && td < 2.1, "t_d {td} s after a 2 s hold");
+    }
+
+    /// Below one count per sample the friction is known only to its whole
+    /// hysteresis range (a reversal smaller than a count may hide between
+    /// two samples): a creep at half a count per sample carries the
+    /// variance `(2·Fs)²/12`, a motion at five counts per sample none of it.
+    #[test]
+    fn creep_below_a_count_per_sample_is_not_resolved() {
+        let q = 1e-6;
+        let rec = record(2000, 1e-3, |t| {
+            let x = if t < 1.0 {
+                0.5e-3 * t
+            } else {
+                0.5e-3 + 5e-3 * (t - 1.0)
+            };
+            q * (x / q).floor()
+        });
+        let mut p = Prepared::with_window(
+            &rec,
+            Window {
+                velocity: 4,
+                force: 32,
+            },
+        );
+        let m = crate::diagnose::fig5_model();
+        let r = p.residual(&m);
+        p.set_error_weights(&m, &r);
+        let range = (2.0 * m.fs).powi(2) / 12.0;
+        assert!(!p.still[500] && !p.still[1500]);
+        assert!(
+            p.var[500] >= range && p.var[500] < 1.01 * range + 1.0,
+            "creep: var {} N², range {range} N²",
+            p.var[500]
+        );
+        assert!(
+            p.var[1500] < 1e-3 * range,
+            "5 counts per sample: var {} N²",
+            p.var[1500]
+        );
     }
 
     /// A position loop on a fine encoder: its command steps by `Kp·q` at
