@@ -225,7 +225,7 @@ pub struct Report {
 }
 
 /// What the residual is, for reports.
-pub const METRIC: &str = "model error [N]: sqrt(rms^2 - floor^2), rms the held-out weighted RMS of the force residual along the measured motion, r = W*(u - F(t, x, v_hat)) - m*a_hat (Savitzky-Golay v_hat, a_hat; W the matching force kernel), floor the part that force noise and encoder resolution explain; still samples (position within one count over the window) are the measured force, re-anchor the presliding memory and carry no weight; weights (speed/direction class x noise/resolution variance) fixed from the start model; blocks 2, 5, 8 of 10 held out (consecutive blocks with equal numbers of moving samples)";
+pub const METRIC: &str = "model error [N]: sqrt(rms^2 - floor^2), rms the held-out weighted RMS of the force residual along the measured motion, r = W*(u - F(t, x, v_hat)) - m*a_hat (Savitzky-Golay v_hat, a_hat; W the matching force kernel), floor the part that force noise and encoder resolution explain; still samples (position within one count over the window) are the measured force, re-anchor the presliding memory and carry no weight; moving samples slower than one count per sample carry the variance of the whole hysteresis range (2*Fs, a reversal smaller than a count may hide between samples); weights (speed/direction class x noise/resolution variance) fixed from the start model; blocks 2, 5, 8 of 10 held out (consecutive blocks with equal numbers of moving samples)";
 
 fn held_rms(p: &Prepared, m: &Model) -> (f64, Vec<f64>) {
     let r = p.residual(m);
