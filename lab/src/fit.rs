@@ -724,16 +724,19 @@ impl Prepared {
         // which the counts cannot show): the presliding memory, and with
         // it the dry friction, is then anywhere between −S and S. Such a
         // sample's friction is known only to that range, `2·Fs` [N].
+        let range = 2.0 * m.fs.max(m.fc);
         let hidden_reversal: Vec<f64> = (0..n)
             .map(|i| {
                 let slow = self.v[i].abs() * self.dt < self.resolution;
                 if slow && !self.still[i] {
-                    2.0 * m.fs.max(m.fc)
+                    range
                 } else {
                     0.0
                 }
             })
             .collect();
+        // Neither term below can exceed the friction's whole range.
+        let cap = range * range;
         let c1_norm = 1.0 / ((self.k * (self.k + 1) * (2 * self.k + 1)) as f64 / 3.0).sqrt();
         let sigma_v2 = q2 * (c1_norm / self.dt).powi(2);
         self.set_weights();
@@ -744,8 +747,6 @@ impl Prepared {
             let c = self.filter_at(&within, i);
             let d = self.filter_at(&hidden_reversal, i);
             let acc = if curved[i] { var_acc } else { 0.0 };
-            // Neither term can exceed the friction's whole range.
-            let cap = (2.0 * m.fs.max(m.fc)).powi(2);
             let var = sigma0 * sigma0
                 + acc
                 + (q2 * a * a).min(cap)
