@@ -723,7 +723,8 @@ impl Prepared {
         // by less than a count (a limit cycle faster than the sampling,
         // which the counts cannot show): the presliding memory, and with
         // it the dry friction, is then anywhere between −S and S. Such a
-        // sample's friction is known only to that range, `2·Fs` [N].
+        // sample's friction is known only to that range, `2·max(Fs, Fc)`
+        // [N] (`2·Fs` for a model with Fs ≥ Fc).
         let range = 2.0 * m.fs.max(m.fc);
         let hidden_reversal: Vec<f64> = (0..n)
             .map(|i| {
