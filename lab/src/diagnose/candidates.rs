@@ -118,13 +118,23 @@ pub(super) fn regress_with_level(p: &Prepared, r: &[f64], s: &[f64]) -> (f64, f6
 
 /// The best wavelength of a spatial periodogram of `r` over moving samples:
 /// `(λ, A·cos φ, A·sin φ, explained fraction)`.
+///
+/// A coarse scan of [`RIPPLE_SCAN_STEPS`] log-spaced wavelengths between
+/// 50 counts (or a 2000th of the travel) and a third of the travel, then a
+/// finer one ([`RIPPLE_REFINE_STEPS`] between the neighbours) around each
+/// of the [`RIPPLE_REFINE_PEAKS`] highest local maxima. A ripple of many
+/// periods over the travel is coherent only within `Δλ/λ ≈ λ/travel`,
+/// narrower than a coarse step: on the development record 1800144
+/// (servo, Maxwell-slip plant, λ = 0.60 mm over 50 periods) the coarse
+/// scan alone gave 0.56 mm, where the fit cannot reach the true period.
 pub fn ripple_scan(p: &Prepared, r: &[f64], filtered: bool) -> (f64, f64, f64, f64) {
+    let none = (1.0, 0.0, 0.0, 0.0);
     let idx: Vec<usize> = p
         .valid()
         .filter(|&i| !p.held_out[i] && p.v[i].abs() > p.v_rest)
         .collect();
     if idx.len() < 20 {
-        return (1.0, 0.0, 0.0, 0.0);
+        return none;
     }
     let (lo, hi) = idx
         .iter()
@@ -135,26 +145,20 @@ pub fn ripple_scan(p: &Prepared, r: &[f64], filtered: bool) -> (f64, f64, f64, f
     let total: f64 = idx.iter().map(|&i| p.weight[i] * r[i] * r[i]).sum();
     let lam_min = (50.0 * p.resolution).max(span / 2000.0);
     let lam_max = span / 3.0;
-    let mut best = (1.0, 0.0, 0.0, 0.0);
     if lam_max <= lam_min || total <= 0.0 {
-        return best;
+        return none;
     }
-    let steps = 300;
-    for s in 0..=steps {
-        let lam = lam_min * (lam_max / lam_min).powf(s as f64 / steps as f64);
+    // Least-squares fit of `c1·sin(kx) + c2·cos(kx)` at one wavelength.
+    let at = |lam: f64| {
         let k = 2.0 * PI / lam;
         let (mut ss, mut sc, mut cc, mut rs, mut rc) = (0.0, 0.0, 0.0, 0.0, 0.0);
-        let sin: Vec<f64>;
-        let cos: Vec<f64>;
-        if filtered {
+        let (sin, cos) = if filtered {
             let raw_sin: Vec<f64> = p.x.iter().map(|x| (k * x).sin()).collect();
             let raw_cos: Vec<f64> = p.x.iter().map(|x| (k * x).cos()).collect();
-            sin = p.filter_all(&raw_sin);
-            cos = p.filter_all(&raw_cos);
+            (p.filter_all(&raw_sin), p.filter_all(&raw_cos))
         } else {
-            sin = Vec::new();
-            cos = Vec::new();
-        }
+            (Vec::new(), Vec::new())
+        };
         for &i in &idx {
             let (a, b) = if filtered {
                 (sin[i], cos[i])
@@ -170,17 +174,47 @@ pub fn ripple_scan(p: &Prepared, r: &[f64], filtered: bool) -> (f64, f64, f64, f
         }
         let det = ss * cc - sc * sc;
         if det <= 0.0 {
-            continue;
+            return none;
         }
         let c1 = (rs * cc - rc * sc) / det;
         let c2 = (rc * ss - rs * sc) / det;
-        let explained = (c1 * rs + c2 * rc) / total;
-        if explained > best.3 {
-            best = (lam, c1, c2, explained);
+        (lam, c1, c2, (c1 * rs + c2 * rc) / total)
+    };
+    let grid = |s: f64| lam_min * (lam_max / lam_min).powf(s / RIPPLE_SCAN_STEPS as f64);
+    let coarse: Vec<(f64, f64, f64, f64)> = (0..=RIPPLE_SCAN_STEPS)
+        .map(|s| at(grid(s as f64)))
+        .collect();
+    let better = |a: &(f64, f64, f64, f64), b: &(f64, f64, f64, f64)| a.3 > b.3;
+    let mut peaks: Vec<usize> = (0..coarse.len())
+        .filter(|&s| {
+            (s == 0 || !better(&coarse[s - 1], &coarse[s]))
+                && coarse.get(s + 1).is_none_or(|n| !better(n, &coarse[s]))
+        })
+        .collect();
+    peaks.sort_by(|&a, &b| coarse[b].3.total_cmp(&coarse[a].3));
+    let mut best = coarse
+        .iter()
+        .fold(none, |b, c| if better(c, &b) { *c } else { b });
+    for &s in peaks.iter().take(RIPPLE_REFINE_PEAKS) {
+        for f in 1..RIPPLE_REFINE_STEPS {
+            let u = s as f64 - 1.0 + 2.0 * f as f64 / RIPPLE_REFINE_STEPS as f64;
+            let c = at(grid(u.clamp(0.0, RIPPLE_SCAN_STEPS as f64)));
+            if better(&c, &best) {
+                best = c;
+            }
         }
     }
     best
 }
+
+/// Log-spaced wavelengths of [`ripple_scan`]'s coarse scan.
+pub const RIPPLE_SCAN_STEPS: usize = 300;
+
+/// Local maxima of the coarse scan that [`ripple_scan`] refines.
+pub const RIPPLE_REFINE_PEAKS: usize = 3;
+
+/// Steps of the fine scan between a peak's two coarse neighbours.
+pub const RIPPLE_REFINE_STEPS: usize = 16;
 
 /// Moves Fc and Fs together by `level` [N], keeping Fc at least a tenth
 /// of its value.
