@@ -124,8 +124,9 @@ pub(super) fn regress_with_level(p: &Prepared, r: &[f64], s: &[f64]) -> (f64, f6
 /// finer one ([`RIPPLE_REFINE_STEPS`] between the neighbours) around each
 /// of the [`RIPPLE_REFINE_PEAKS`] highest local maxima. A ripple of many
 /// periods over the travel is coherent only within `Δλ/λ ≈ λ/travel`,
-/// narrower than a coarse step: on the development record 1800144
-/// (servo, Maxwell-slip plant, λ = 0.60 mm over 50 periods) the coarse
+/// narrower than a coarse step: on record 1800144 (the draw 1800000–,
+/// scored fresh with version 7.0; a servo on the Maxwell-slip plant,
+/// λ = 0.60 mm over 50 periods) the coarse
 /// scan alone gave 0.56 mm, where the fit cannot reach the true period.
 pub fn ripple_scan(p: &Prepared, r: &[f64], filtered: bool) -> (f64, f64, f64, f64) {
     let none = (1.0, 0.0, 0.0, 0.0);

@@ -268,8 +268,9 @@ fn fit_candidate(p: &Prepared, base: &Model, r: &[f64], effect: Effect) -> Optio
 /// sound fit ([`sound_fit`]), or `None`.
 ///
 /// A dip at `Fs = 11·Fc` is not a finding of the candidate (see
-/// [`dip_run_to_bound`]), but the effect may be: on the fresh record
-/// 1800145 (servo, `position_ripple` 73× the noise) the ripple fit ran
+/// [`dip_run_to_bound`]), but the effect may be: on record 1800145 (the
+/// draw 1800000–, scored fresh with version 7.0; a servo with a
+/// `position_ripple` 73× the noise) the ripple fit ran
 /// V to 6e-6 m/s with `Fs = 11·Fc` and otherwise found the truth (mass
 /// 1.023 kg against 1.012, amplitude 0.515 N against 0.517, the
 /// wavelength to 0.02 %, held-out rms 0.013 N against the base's 0.32);
@@ -722,9 +723,10 @@ mod tests {
         )
     }
 
-    /// A ripple of 60 periods over the travel whose wavelength lies midway
-    /// between two of the coarse scan's is found to 0.1 % (a coarse step
-    /// is 2 %): amplitude and phase follow.
+    /// A ripple of 60 periods over the travel whose wavelength lies about
+    /// midway between two of the coarse scan's is found to 0.1 % (a coarse
+    /// step is 2 %; the coarse scan alone gives 3 % off): amplitude and
+    /// phase follow.
     #[test]
     fn the_ripple_scan_finds_a_period_between_its_coarse_steps() {
         let t: Vec<f64> = (0..20_000).map(|i| i as f64 * 1e-3).collect();
@@ -746,7 +748,8 @@ mod tests {
                 force: 32,
             },
         );
-        // The scan's range for this travel (±30 mm, 1 µm counts).
+        // About the scan's range for this travel (±30 mm, 1 µm counts;
+        // the scan spans the moving samples, a little less).
         let (lam_min, lam_max): (f64, f64) = (50e-6, 60e-3 / 3.0);
         let step = (lam_max / lam_min).powf(1.0 / RIPPLE_SCAN_STEPS as f64);
         let lam = 1e-3 * step.sqrt();
