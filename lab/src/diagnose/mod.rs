@@ -702,13 +702,19 @@ mod tests {
 
     /// A reversing motion quantised to 1 µm, for starting models only.
     fn prepared() -> Prepared {
-        let t: Vec<f64> = (0..2000).map(|i| i as f64 * 1e-3).collect();
+        sinusoid(2000, 2e-3, 3.0)
+    }
+
+    /// `n` samples at 1 kHz of a sinusoid of `amplitude` [m] at `omega`
+    /// [rad/s] quantised to 1 µm, with the force `cos(ωt)` [N].
+    fn sinusoid(n: usize, amplitude: f64, omega: f64) -> Prepared {
+        let t: Vec<f64> = (0..n).map(|i| i as f64 * 1e-3).collect();
         let x: Vec<f64> = t
             .iter()
-            .map(|&t| (2e-3 * (3.0 * t).sin() / 1e-6).round() * 1e-6)
+            .map(|&t| (amplitude * (omega * t).sin() / 1e-6).round() * 1e-6)
             .collect();
         let rec = Record {
-            u: t.iter().map(|&t| (3.0 * t).cos()).collect(),
+            u: t.iter().map(|&t| (omega * t).cos()).collect(),
             t,
             x,
             v: None,
@@ -729,25 +735,7 @@ mod tests {
     /// phase follow.
     #[test]
     fn the_ripple_scan_finds_a_period_between_its_coarse_steps() {
-        let t: Vec<f64> = (0..20_000).map(|i| i as f64 * 1e-3).collect();
-        let x: Vec<f64> = t
-            .iter()
-            .map(|&t| (30e-3 * (0.5 * t).sin() / 1e-6).round() * 1e-6)
-            .collect();
-        let rec = Record {
-            u: vec![0.0; t.len()],
-            t,
-            x,
-            v: None,
-            source: "test".into(),
-        };
-        let p = Prepared::with_window(
-            &rec,
-            Window {
-                velocity: 4,
-                force: 32,
-            },
-        );
+        let p = sinusoid(20_000, 30e-3, 0.5);
         // About the scan's range for this travel (±30 mm, 1 µm counts;
         // the scan spans the moving samples, a little less).
         let (lam_min, lam_max): (f64, f64) = (50e-6, 60e-3 / 3.0);
