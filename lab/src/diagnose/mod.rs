@@ -258,7 +258,8 @@ fn fit_candidate(p: &Prepared, base: &Model, r: &[f64], effect: Effect) -> Optio
     // the held-out rms by the gain the effect must show (on EMPS five
     // candidates ran the dip to its bound without that gain, and their
     // refits took a tenth of the run).
-    let promising = || held_rms(p, &fitted).0 < (1.0 - required_gain(effect)) * held_rms(p, base).0;
+    let promising =
+        || held_rms(p, &fitted).0 < (1.0 - required_gain(effect)) * p.rms(r, Some(true));
     if dip_run_to_bound(base, &fitted) && promising() {
         if let Some(m) = with_dip_reset(p, base, &fitted, effect) {
             fitted = m;
@@ -285,13 +286,15 @@ fn with_dip_reset(p: &Prepared, base: &Model, fitted: &Model, effect: Effect) ->
         let params = fit::params_of(&m);
         fit::fit(p, &m, &params, &FitOptions::default(), &mut |_| {}).model
     };
-    let mut from_base = fitted.clone();
-    from_base.fs = fitted.fc * base.fs / base.fc;
-    from_base.v_stribeck = base.v_stribeck;
-    from_base.delta = base.delta;
+    let from_base = fit::has_effect(base, Effect::Stribeck).then(|| {
+        let mut m = fitted.clone();
+        m.fs = fitted.fc * base.fs / base.fc;
+        m.v_stribeck = base.v_stribeck;
+        m.delta = base.delta;
+        m
+    });
     let mut without = fitted.clone();
     without.fs = without.fc;
-    let from_base = fit::has_effect(base, Effect::Stribeck).then_some(from_base);
     from_base
         .into_iter()
         .chain([without])
