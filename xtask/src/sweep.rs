@@ -768,8 +768,40 @@ pub fn smoke() -> Result<(), String> {
             serde_json::to_string(&s.misses).unwrap_or_default()
         ));
     }
+    for &(seed, kind, what) in SMOKE_CASES {
+        let o = Options {
+            from: seed,
+            to: seed + 1,
+            kind: kind.into(),
+            out: crate::target_dir().join("sweep-smoke-cases"),
+            json: None,
+        };
+        let scored = sweep(&o)?;
+        let Some(x) = scored.first() else {
+            return Err(format!("sweep case {seed}: no record was generated"));
+        };
+        println!(
+            "sweep case {}: hidden {:?}, named {:?}, shrink {:?} ({what})",
+            x.name, x.hidden, x.named, x.shrink
+        );
+        if !x.success() {
+            return Err(format!(
+                "sweep case {} ({what}) regressed: hidden {:?}, named {:?}, shrink {:?}",
+                x.name, x.hidden, x.named, x.shrink
+            ));
+        }
+    }
     Ok(())
 }
+
+/// Records of the development draws that `cargo xtask test` also runs,
+/// each named exactly with the gap halved since the change it guards:
+/// `(seed, kind, what it guards)`.
+pub const SMOKE_CASES: &[(u64, &str, &str)] = &[(
+    1_900_060,
+    "mixed",
+    "two effects that hide each other: the pair step of version 7.2",
+)];
 
 #[cfg(test)]
 mod tests {

@@ -107,6 +107,7 @@ pub fn report_json(rep: &Report) -> String {
             j["signal"] = json!(s.signal.0);
             j["signal_explained"] = json!(s.signal.1);
             j["tied_with"] = json!(tied_look_alike(s, rep.floor).map(|(e, _, _)| e.name()));
+            j["joint_with"] = json!(s.joint.map(Effect::name));
             j
         })
         .collect();
@@ -230,6 +231,24 @@ pub fn report_text(rep: &Report, source: &str) -> String {
             pct(st.rms_before, st.rms_after),
             short(st.score, 4)
         );
+        if let Some(other) = st.joint {
+            let alone: Vec<String> = [st.effect, other]
+                .iter()
+                .filter_map(|&e| st.candidates.iter().find(|c| c.effect == e))
+                .map(|c| {
+                    format!(
+                        "{} {} N",
+                        c.effect,
+                        short(fit::model_error(c.rms, rep.floor), 3)
+                    )
+                })
+                .collect();
+            let _ = writeln!(
+                s,
+                "        fitted together with `{other}`: neither passed alone (model error alone: {}; the step's figures are the pair's)",
+                alone.join(", ")
+            );
+        }
         if let Some((other, mine, theirs)) = tied_look_alike(st, rep.floor) {
             let _ = writeln!(
                 s,
