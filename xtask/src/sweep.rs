@@ -800,7 +800,7 @@ pub fn smoke() -> Result<(), String> {
 pub const SMOKE_CASES: &[(u64, &str, &str)] = &[(
     1_900_060,
     "mixed",
-    "two effects that hide each other: the pair step of version 7.2",
+    "two effects that hide each other: the pair step of version 7.3",
 )];
 
 #[cfg(test)]

@@ -373,11 +373,11 @@ fn admissible(p: &Prepared, fitted: &Model, effect: Effect) -> bool {
 /// each alone, with the base refitted around it, *raised* the held-out
 /// rms (0.099 → 0.125 and 0.154 N), together they lowered it to 0.010 N.
 ///
-/// Tried only where the gap is [`PAIR_MIN_GAP`] floors or more. The
-/// [`PAIR_CANDIDATES`] best candidates of the round (`cands`, best
-/// first) are paired without look-alikes and nested forms; the one with
-/// the lower held-out rms is the start, the other is fitted on top of it
-/// from its own starts. A pair passes with a better BIC than the current
+/// Tried only where the gap is [`PAIR_MIN_GAP`] floors or more, and
+/// only for the round's candidates (`cands`) that [`pairable`] admits
+/// (version 7.3: effects of the sliding curve); the one with the lower
+/// held-out rms is the start, the other is fitted on top of it from its
+/// own starts. A pair passes with a better BIC than the current
 /// model, the sum of both effects' [`required_gain`] and
 /// [`MIN_GAP_SHARE`] of the gap (`(rms, floor, bic_cur)`: the current
 /// held-out rms, the floor and BIC), and each effect's own required gain
@@ -389,14 +389,12 @@ fn best_pair(
     cands: &[Candidate],
     (rms, floor, bic_cur): (f64, f64, f64),
 ) -> Option<(Effect, Candidate)> {
-    let top = &cands[..cands.len().min(PAIR_CANDIDATES)];
     let mut pairs = Vec::new();
-    for (i, a) in top.iter().enumerate() {
-        for b in &top[i + 1..] {
-            if look_alike(a.effect) == Some(b.effect) || nested(a.effect, b.effect) {
-                continue;
+    for (i, a) in cands.iter().enumerate() {
+        for b in &cands[i + 1..] {
+            if pairable(a.effect, b.effect) {
+                pairs.push(if a.rms <= b.rms { (a, b) } else { (b, a) });
             }
-            pairs.push(if a.rms <= b.rms { (a, b) } else { (b, a) });
         }
     }
     let fitted: Vec<Option<(Effect, Candidate)>> = pairs

@@ -201,10 +201,6 @@ pub fn dwell_spread(p: &Prepared, m: &Model) -> f64 {
     }
 }
 
-/// How many of a round's best candidates are fitted in pairs when none
-/// passes alone (the pair step of `diagnose`; 6 pairs at most).
-pub const PAIR_CANDIDATES: usize = 4;
-
 /// Least model error, in units of the floor, at which a round that named
 /// nothing fits pairs. Where one effect hid another on the development
 /// records the gap was 160 times the floor (record 1900060: a base
@@ -213,6 +209,25 @@ pub const PAIR_CANDIDATES: usize = 4;
 /// `position_ripple` of 0.6–0.7 N beside `dwell_stiction` or
 /// `asymmetry`, with gaps of 2.1 and 2.6 floors on 1900015 and 1900140).
 pub const PAIR_MIN_GAP: f64 = 10.0;
+
+/// Whether `a` and `b` may be fitted as a pair: both shape the steady
+/// sliding curve F(v) (the effects of a steady-state record,
+/// [`crate::steady::STEADY_CANDIDATES`]), where one can hide the other
+/// by moving the Coulomb level (record 1900060: the base took Fc to
+/// 1.05 N against the true 0.66 N beside `asymmetry` and
+/// `nonlinear_viscous`), and neither is the other's look-alike nor its
+/// special case (`viscous` in `nonlinear_viscous`).
+///
+/// Version 7.2 paired any of a round's four best candidates. On the
+/// fresh draw 2000000– that added no success and put a second wrong
+/// effect beside a miss on four records, each time with an effect that
+/// acts in time, place or rest (`drift` in four pairs, `position_ripple`,
+/// `frictional_lag`); so did the two bad pairs of the development draw
+/// (`position_ripple` beside `dwell_stiction` or `asymmetry`).
+pub fn pairable(a: Effect, b: Effect) -> bool {
+    let curve = |e: Effect| crate::steady::STEADY_CANDIDATES.contains(&e);
+    curve(a) && curve(b) && a != b && look_alike(a) != Some(b) && !nested(a, b)
+}
 
 /// Whether one of the two effects holds the other as a special case
 /// (`viscous` is `nonlinear_viscous` with `n = 1`): such a pair is not
