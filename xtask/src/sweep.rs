@@ -776,6 +776,7 @@ pub fn smoke() -> Result<(), String> {
             out: crate::target_dir().join("sweep-smoke-cases"),
             json: None,
         };
+        let _ = std::fs::remove_dir_all(&o.out);
         let scored = sweep(&o)?;
         let Some(x) = scored.first() else {
             return Err(format!("sweep case {seed}: no record was generated"));

@@ -364,7 +364,7 @@ fn admissible(p: &Prepared, fitted: &Model, effect: Effect) -> bool {
     degenerate(p, fitted, effect).is_none() && visibility(p, fitted, effect) >= MIN_VISIBILITY
 }
 
-/// The best pair of a round's leading candidates when none passed alone:
+/// The best pair of a round's candidates when none passed alone:
 /// `(first effect, the pair as a candidate of the second)`, or `None`.
 ///
 /// Two effects can hide each other from a greedy search: on record
@@ -834,6 +834,24 @@ mod tests {
     /// midway between two of the coarse scan's is found to 0.1 % (a coarse
     /// step is 2 %; the coarse scan alone gives 3 % off): amplitude and
     /// phase follow.
+    #[test]
+    fn pairs_are_of_sliding_curve_effects_only_without_look_alikes_or_nesting() {
+        use Effect::*;
+        assert!(pairable(NonlinearViscous, Asymmetry));
+        assert!(pairable(Offset, Viscous));
+        assert!(!pairable(Offset, Asymmetry), "look-alikes");
+        assert!(!pairable(NonlinearViscous, Viscous), "nested");
+        for other in [
+            PositionRipple,
+            DwellStiction,
+            FrictionalLag,
+            Drift,
+            Stribeck,
+        ] {
+            assert!(!pairable(Viscous, other) && !pairable(other, Asymmetry));
+        }
+    }
+
     #[test]
     fn the_ripple_scan_finds_a_period_between_its_coarse_steps() {
         let p = sinusoid(20_000, 30e-3, 0.5);
