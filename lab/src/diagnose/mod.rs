@@ -555,32 +555,39 @@ pub fn diagnose(
                 break;
             }
         };
+        // The localising signals of the residual before the step, once
+        // (a walk of the record) for the one or two steps.
+        let signals = localise_signals(&p, &r, &signal_series(&p, &model));
         let sig_of = |e: Effect| {
             let name = signal_of(e);
-            localise_signals(&p, &r, &signal_series(&p, &model))
-                .into_iter()
+            signals
+                .iter()
                 .find(|(n, _)| n == name)
+                .cloned()
                 .unwrap_or((name.to_string(), 0.0))
         };
         let (new_rms, new_r) = held_rms(&p, &best.model);
-        let step = |effect: Effect, joint: Option<Effect>| Step {
-            effect,
+        let step = Step {
+            effect: best.effect,
             joint,
             rms_before: fit::model_error(rms, floor),
             rms_after: fit::model_error(new_rms, floor),
             score: best.score,
             model: best.model.clone(),
-            signal: sig_of(effect),
-            candidates: cands.clone(),
-            held_back: held_back.clone(),
+            signal: sig_of(best.effect),
+            candidates: cands,
+            held_back,
             residual_before: r.clone(),
         };
         if let Some(first) = joint {
-            steps.push(step(first, Some(best.effect)));
-            steps.push(step(best.effect, Some(first)));
-        } else {
-            steps.push(step(best.effect, None));
+            steps.push(Step {
+                effect: first,
+                joint: Some(best.effect),
+                signal: sig_of(first),
+                ..step.clone()
+            });
         }
+        steps.push(step);
         model = best.model;
         rms = new_rms;
         r = new_r;
