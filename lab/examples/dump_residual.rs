@@ -1,7 +1,8 @@
 //! Development aid: the residual of a fixed model along a record, as CSV
 //! (`t,x,v,u,still,weight,var,r`), for looking at what the metric sees.
 //!
-//! `cargo run -p breakaway-lab --release --example dump_residual -- DATA MODEL.toml [K [KF]]`
+//! `cargo run -p breakaway-lab --release --example dump_residual -- DATA MODEL.toml [K [KF]]` (default: the
+//! half-widths `diagnose` chooses)
 
 use breakaway_lab::data;
 use breakaway_lab::fit::Prepared;
@@ -11,13 +12,20 @@ use std::path::Path;
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let (Some(d), Some(m)) = (args.first(), args.get(1)) else {
-        eprintln!("usage: dump_residual DATA MODEL.toml [K]");
+        eprintln!("usage: dump_residual DATA MODEL.toml [K [KF]]");
         std::process::exit(2);
     };
-    let k = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(5);
     let rec = data::load(Path::new(d))?;
     let model = Model::load(Path::new(m))?;
-    let kf = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(k);
+    let auto = breakaway_lab::fit::auto_window(&rec);
+    let k = args
+        .get(2)
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(auto.velocity);
+    let kf = args
+        .get(3)
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(auto.force);
     let mut p = Prepared::with_window(
         &rec,
         breakaway_lab::fit::Window {

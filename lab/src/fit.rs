@@ -284,12 +284,26 @@ pub struct Prepared {
     /// (noise and resolution, [`Prepared::set_error_weights`]); `σ0²` until
     /// then.
     pub var: Vec<f64>,
+    /// [`Prepared::var`] with the slow-motion term at the range the
+    /// record shows ([`Prepared::slow_spread`]) instead of the whole
+    /// hysteresis range: what [`Prepared::floor`] expects of a correct
+    /// model [N²].
+    pub floor_var: Vec<f64>,
     /// Force-noise level of the residual in fast sliding [N] (0 until
     /// [`Prepared::set_error_weights`]).
     pub sigma0: f64,
     /// The per-sample terms of the last few shapes walked.
     terms: TermCache,
 }
+
+/// Least number of slow sample pairs for [`Prepared::slow_spread`].
+pub const MIN_SLOW_PAIRS: usize = 200;
+
+/// The quantile of the slow pairs' differences that [`Prepared::slow_spread`]
+/// reads (a high one: stick-slip between samples comes in bursts), and
+/// the normal quantile `z` it corresponds to.
+pub const SLOW_QUANTILE: f64 = 0.99;
+const SLOW_Z: f64 = 2.576;
 
 /// How many shapes [`TermCache`] keeps of each kind.
 const TERM_CACHE_LEN: usize = 4;
@@ -476,6 +490,7 @@ impl Prepared {
             still,
             u_still,
             var: vec![0.0; n],
+            floor_var: vec![0.0; n],
             sigma0: 0.0,
             force_noise: force_noise(&rec.u, xs),
             terms: TermCache::default(),
@@ -643,10 +658,16 @@ impl Prepared {
     ///   of the development draws with a position ripple, the generator's
     ///   plant reversed in bursts of about 1 ms while the counts fell
     ///   steadily; its own model's error was 0.21 N without this term,
-    ///   0.040 N with it).
+    ///   0.040 N with it). The weights keep the whole range; the floor
+    ///   (version 7.4, [`Prepared::floor_var`]) takes `U` only as far as
+    ///   the start model's residual shows it at slow samples
+    ///   ([`Prepared::slow_spread`]): on slow sinusoids the whole range
+    ///   made the floor 30× what the generator's own model left (0.48 N
+    ///   against 0.016 N), so no effect there could be named.
     ///
     /// Each sample's class weight is multiplied by `σ0²/var_i` (≤ 1); the
-    /// variances are kept for [`Prepared::floor`]. Called once per record
+    /// variances are kept ([`Prepared::var`], and [`Prepared::floor_var`]
+    /// for [`Prepared::floor`]). Called once per record
     /// (from the start model), so every figure compared afterwards uses the
     /// same weights. Returns `σ0`.
     pub fn set_error_weights(&mut self, m: &Model, r: &[f64]) -> f64 {
@@ -726,16 +747,11 @@ impl Prepared {
         // sample's friction is known only to that range, `2·max(Fs, Fc)`
         // [N] (`2·Fs` for a model with Fs ≥ Fc).
         let range = 2.0 * m.fs.max(m.fc);
-        let hidden_reversal: Vec<f64> = (0..n)
-            .map(|i| {
-                let slow = self.v[i].abs() * self.dt < self.resolution;
-                if slow && !self.still[i] {
-                    range
-                } else {
-                    0.0
-                }
-            })
-            .collect();
+        let slow = |i: usize| self.v[i].abs() * self.dt < self.resolution && !self.still[i];
+        let hidden_reversal: Vec<f64> = (0..n).map(|i| if slow(i) { range } else { 0.0 }).collect();
+        // How much of that range the record shows (a fraction), for the
+        // floor only: the weights keep the whole range.
+        let shown = range.min(self.slow_spread(r, &slow).unwrap_or(range)) / range;
         // Neither term below can exceed the friction's whole range.
         let cap = range * range;
         let c1_norm = 1.0 / ((self.k * (self.k + 1) * (2 * self.k + 1)) as f64 / 3.0).sqrt();
@@ -748,16 +764,41 @@ impl Prepared {
             let c = self.filter_at(&within, i);
             let d = self.filter_at(&hidden_reversal, i);
             let acc = if curved[i] { var_acc } else { 0.0 };
-            let var = sigma0 * sigma0
+            let known = sigma0 * sigma0
                 + acc
                 + (q2 * a * a).min(cap)
                 + (sigma_v2 * b * b).min(cap)
-                + (c * c / 12.0).min(cap)
-                + (d * d / 12.0).min(cap);
-            self.var[i] = var;
-            self.weight[i] *= sigma0 * sigma0 / var;
+                + (c * c / 12.0).min(cap);
+            let hidden = (d * d / 12.0).min(cap);
+            self.var[i] = known + hidden;
+            self.floor_var[i] = known + hidden * shown * shown;
+            self.weight[i] *= sigma0 * sigma0 / self.var[i];
         }
         sigma0
+    }
+
+    /// The hidden-reversal range [N] that the residual `r` of the start
+    /// model shows at the slow moving samples (`slow`): `√12·σ`, σ from
+    /// the [`SLOW_QUANTILE`] of `|r_i − r_{i+2K+1}|` over pairs of slow
+    /// samples (`z·√2·σ` for Gaussian differences), the same kernel span
+    /// apart as the noise pairs of [`Prepared::set_error_weights`], so
+    /// that a disagreement that varies slower than the kernel (a missing
+    /// effect) cancels and stick-slip faster than the sampling does not;
+    /// `None` with fewer than [`MIN_SLOW_PAIRS`] pairs.
+    fn slow_spread(&self, r: &[f64], slow: &dyn Fn(usize) -> bool) -> Option<f64> {
+        let lag = 2 * self.kf + 1;
+        let end = self.valid().end;
+        let mut d: Vec<f64> = self
+            .valid()
+            .filter(|&i| i + lag < end && slow(i) && slow(i + lag))
+            .map(|i| (r[i] - r[i + lag]).abs())
+            .collect();
+        if d.len() < MIN_SLOW_PAIRS {
+            return None;
+        }
+        let k = ((SLOW_QUANTILE * d.len() as f64) as usize).min(d.len() - 1);
+        let (_, high, _) = d.select_nth_unstable_by(k, f64::total_cmp);
+        Some(12f64.sqrt() * *high / (SLOW_Z * std::f64::consts::SQRT_2))
     }
 
     /// Adds the **stops** of the motion to the still samples: a sample
@@ -813,14 +854,15 @@ impl Prepared {
     }
 
     /// The part of the weighted RMS [N] that noise and resolution explain:
-    /// `√(Σ c_i·w_i·var_i / Σ c_i·w_i)` over the samples selected by
-    /// `held_out` (`c` class weight, `w = σ0²/var` the error factor), what
-    /// a correct model would show. 0 before [`Prepared::set_error_weights`].
+    /// `√(Σ c_i·w_i·v_i / Σ c_i·w_i)` over the samples selected by
+    /// `held_out` (`c` class weight, `w = σ0²/var` the error factor, `v`
+    /// [`Prepared::floor_var`]), what a correct model would show. 0 before
+    /// [`Prepared::set_error_weights`].
     pub fn floor(&self, held_out: Option<bool>) -> f64 {
         let (mut s, mut w) = (0.0, 0.0);
         for i in self.valid() {
             if held_out.is_none_or(|h| self.held_out[i] == h) {
-                s += self.weight[i] * self.var[i];
+                s += self.weight[i] * self.floor_var[i];
                 w += self.weight[i];
             }
         }
@@ -1829,5 +1871,41 @@ mod tests {
             (stable / sigma - 1.0).abs() < 0.1,
             "count-stable windows {stable} N"
         );
+    }
+
+    /// The hidden-reversal range a record shows follows the residual at
+    /// slow samples: a disagreement of 1 N that varies slowly (a tenth of
+    /// its period over the record) cancels in the pairs and leaves the
+    /// noise (0.05 N, so about √12·0.05 N), while bursts from sample to
+    /// sample (±0.5 N) keep a range of their size; too few slow samples
+    /// leave it unknown.
+    #[test]
+    fn the_slow_motion_range_is_what_slow_samples_show() {
+        let rec = record(4000, 1e-3, |t| 1e-3 * t);
+        let p = Prepared::with_window(
+            &rec,
+            Window {
+                velocity: 4,
+                force: 32,
+            },
+        );
+        let mut rng = crate::synth::Rng::new(11);
+        let slow_drift: Vec<f64> = (0..p.len())
+            .map(|i| (2.0 * PI * i as f64 / 40_000.0).sin() + 0.05 * rng.normal())
+            .collect();
+        let all = |_: usize| true;
+        let spread = p.slow_spread(&slow_drift, &all).unwrap();
+        let noise = 12f64.sqrt() * 0.05;
+        assert!(
+            (spread / noise - 1.0).abs() < 0.3,
+            "drift: {spread} N against {noise} N"
+        );
+        let bursts: Vec<f64> = (0..p.len())
+            .map(|i| if (i / 7) % 2 == 0 { 0.5 } else { -0.5 })
+            .collect();
+        let spread = p.slow_spread(&bursts, &all).unwrap();
+        assert!(spread > 0.8, "bursts: {spread} N");
+        let few = |i: usize| i < 100 + MIN_SLOW_PAIRS / 2;
+        assert!(p.slow_spread(&bursts, &few).is_none());
     }
 }
