@@ -218,6 +218,16 @@ pub fn force_noise(u: &[f64], x: &[f64]) -> f64 {
     *med / (0.6745 * 20f64.sqrt())
 }
 
+/// The `q` quantile of `v` (sorted in place; the element at
+/// `round((len − 1)·q)`, NaN when empty).
+pub fn quantile(v: &mut [f64], q: f64) -> f64 {
+    if v.is_empty() {
+        return f64::NAN;
+    }
+    v.sort_by(f64::total_cmp);
+    v[((v.len() - 1) as f64 * q).round() as usize]
+}
+
 /// Least number of count-stable windows for [`force_noise`] to use them
 /// alone.
 pub const MIN_STABLE_WINDOWS: usize = 200;
@@ -796,9 +806,7 @@ impl Prepared {
         if d.len() < MIN_SLOW_PAIRS {
             return None;
         }
-        let k = ((SLOW_QUANTILE * d.len() as f64) as usize).min(d.len() - 1);
-        let (_, high, _) = d.select_nth_unstable_by(k, f64::total_cmp);
-        Some(12f64.sqrt() * *high / (SLOW_Z * std::f64::consts::SQRT_2))
+        Some(12f64.sqrt() * quantile(&mut d, SLOW_QUANTILE) / (SLOW_Z * std::f64::consts::SQRT_2))
     }
 
     /// Adds the **stops** of the motion to the still samples: a sample

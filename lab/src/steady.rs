@@ -22,7 +22,8 @@
 //! its range is not a finding. The gap is the held-out RMS itself; the
 //! report gives the noise beside it.
 
-use crate::diagnose::{self, quantile, required_gain};
+use crate::diagnose::{self, required_gain};
+use crate::fit::quantile;
 use crate::fit::{self, FitOptions, Param, Residuals};
 use crate::reference::{stribeck, Asymmetry, Effect, Effects, Model, NonlinearViscous, Offset};
 use crate::static_curve::Point;

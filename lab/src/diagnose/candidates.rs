@@ -58,16 +58,6 @@ pub(super) fn fit_multistart(
     first.unwrap_or_else(|| starts.first().cloned().unwrap_or_else(fig5_model))
 }
 
-/// The `q` quantile of `v` (sorted in place; the element at
-/// `round((len − 1)·q)`, NaN when empty).
-pub(crate) fn quantile(v: &mut [f64], q: f64) -> f64 {
-    if v.is_empty() {
-        return f64::NAN;
-    }
-    v.sort_by(f64::total_cmp);
-    v[((v.len() - 1) as f64 * q).round() as usize]
-}
-
 /// Dry friction `H` along the motion, as the residual sees it (for
 /// regressions of the residual).
 pub(super) fn dry_force(p: &Prepared, m: &Model) -> Vec<f64> {

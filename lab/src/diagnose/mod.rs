@@ -26,7 +26,7 @@
 //!    names.
 
 use crate::data::Record;
-use crate::fit::{self, FitOptions, Param, Prepared};
+use crate::fit::{self, quantile, FitOptions, Param, Prepared};
 use crate::progress::Progress;
 use crate::reference::{
     Asymmetry, Drift, DwellStiction, Effect, Effects, Friction, FrictionalLag, Model,
@@ -837,10 +837,8 @@ mod tests {
         )
     }
 
-    /// A ripple of 60 periods over the travel whose wavelength lies about
-    /// midway between two of the coarse scan's is found to 0.1 % (a coarse
-    /// step is 2 %; the coarse scan alone gives 3 % off): amplitude and
-    /// phase follow.
+    /// Pairs are of effects of the sliding curve F(v) only (version 7.3),
+    /// never two look-alikes nor an effect and its nested special case.
     #[test]
     fn pairs_are_of_sliding_curve_effects_only_without_look_alikes_or_nesting() {
         use Effect::*;
@@ -859,6 +857,10 @@ mod tests {
         }
     }
 
+    /// A ripple of 60 periods over the travel whose wavelength lies about
+    /// midway between two of the coarse scan's is found to 0.1 % (a coarse
+    /// step is 2 %; the coarse scan alone gives 3 % off): amplitude and
+    /// phase follow.
     #[test]
     fn the_ripple_scan_finds_a_period_between_its_coarse_steps() {
         let p = sinusoid(20_000, 30e-3, 0.5);
