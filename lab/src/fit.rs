@@ -43,8 +43,8 @@
 //! differences (one pass along the record each).
 
 use crate::reference::{
-    stribeck_decay, Asymmetry, Drift, DwellStiction, Effect, Friction, FrictionalLag, Model,
-    NonlinearViscous, Offset, PositionRipple, SampleTerms,
+    Asymmetry, Drift, DwellStiction, Effect, Friction, FrictionalLag, Model, NonlinearViscous,
+    Offset, PositionRipple, SampleTerms,
 };
 use rayon::prelude::*;
 use std::f64::consts::PI;
@@ -237,7 +237,7 @@ pub const MIN_STABLE_WINDOWS: usize = 200;
 pub const STOP_HALF_WIDTH: usize = 2;
 
 /// Number of blocks of the split (consecutive, equal counts of scored
-/// samples: [`Prepared::set_split`]).
+/// samples: `Prepared::set_split`).
 pub const BLOCKS: usize = 10;
 /// Held-out blocks (0-based).
 pub const HELD_OUT: [usize; 3] = [2, 5, 8];
@@ -295,7 +295,7 @@ pub struct Prepared {
     /// then.
     pub var: Vec<f64>,
     /// [`Prepared::var`] with the slow-motion term at the range the
-    /// record shows ([`Prepared::slow_spread`]) instead of the whole
+    /// record shows (`Prepared::slow_spread`) instead of the whole
     /// hysteresis range: what [`Prepared::floor`] expects of a correct
     /// model [N²].
     pub floor_var: Vec<f64>,
@@ -306,10 +306,10 @@ pub struct Prepared {
     terms: TermCache,
 }
 
-/// Least number of slow sample pairs for [`Prepared::slow_spread`].
+/// Least number of slow sample pairs for `Prepared::slow_spread`.
 pub const MIN_SLOW_PAIRS: usize = 200;
 
-/// The quantile of the slow pairs' differences that [`Prepared::slow_spread`]
+/// The quantile of the slow pairs' differences that `Prepared::slow_spread`
 /// reads (a high one: stick-slip between samples comes in bursts), and
 /// the normal quantile `z` it corresponds to.
 pub const SLOW_QUANTILE: f64 = 0.99;
@@ -321,12 +321,29 @@ const TERM_CACHE_LEN: usize = 4;
 /// The per-sample Stribeck decays (by V and δ) and `|v|^n` (by n) along
 /// [`Prepared::model_velocity`] of the last shapes walked: a fit walks many
 /// models of one shape (every difference column but those of V, δ and n),
-/// and `pow`/`exp` were a third of a walk's time. The walk is the same to
-/// the last bit (see [`SampleTerms`]). A clone starts empty.
+/// and `pow`/`exp` were a third of a walk's time. The powers are taken as
+/// `exp(p·ln|v|)` from [`Prepared::ln_speed`], which differs from
+/// [`crate::reference::stribeck_decay`] and `powf` by rounding only (EMPS: the same fitted
+/// model to 13 digits, 9 % less time). A clone starts empty.
 #[derive(Debug, Default)]
 struct TermCache {
     decay: Shapes<[u64; 2]>,
     speed_pow: Shapes<u64>,
+    ln_speed: Mutex<Option<Arc<Vec<f64>>>>,
+}
+
+/// The Stribeck decay `exp(−(|v|/V)^δ)` from `l = ln(|v|/V)` (−∞ at
+/// v = 0, where it is 1); as [`crate::reference::stribeck_decay`] up to rounding (a few
+/// units in the last place: the power is `exp(δ·l)`, not `powf`).
+fn decay_from_ln(l: f64, delta: f64) -> f64 {
+    let p = (delta * l).exp();
+    // exp(−p) is 0 to the last bit beyond p = 745.2; its underflow path
+    // is slow.
+    if p > 746.0 {
+        0.0
+    } else {
+        (-p).exp()
+    }
 }
 
 /// Per-sample series by the bits of their shape parameters, oldest first.
@@ -671,7 +688,7 @@ impl Prepared {
     ///   0.040 N with it). The weights keep the whole range; the floor
     ///   (version 7.4, [`Prepared::floor_var`]) takes `U` only as far as
     ///   the start model's residual shows it at slow samples
-    ///   ([`Prepared::slow_spread`]): on slow sinusoids the whole range
+    ///   (`Prepared::slow_spread`): on slow sinusoids the whole range
     ///   made the floor 30× what the generator's own model left (0.48 N
     ///   against 0.016 N), so no effect there could be named.
     ///
@@ -905,17 +922,19 @@ impl Prepared {
     /// memory.
     pub fn walk(&self, m: &Model, mut f: impl FnMut(usize, &Friction)) {
         let along = |g: &dyn Fn(f64) -> f64| -> Vec<f64> {
-            (0..self.len()).map(|i| g(self.model_velocity(i))).collect()
+            let ln_speed = self.ln_speed();
+            ln_speed.iter().map(|&l| g(l)).collect()
         };
         let decay = m.effects.frictional_lag.is_none().then(|| {
             let (v_s, delta) = (m.v_stribeck, m.delta);
             TermCache::get(&self.terms.decay, [v_s.to_bits(), delta.to_bits()], || {
-                along(&|v| stribeck_decay(v_s, delta, v))
+                let ln_v = v_s.ln();
+                along(&|l| decay_from_ln(l - ln_v, delta))
             })
         });
         let speed_pow = m.effects.nonlinear_viscous.map(|nv| {
             TermCache::get(&self.terms.speed_pow, nv.n.to_bits(), || {
-                along(&|v| v.abs().powf(nv.n))
+                along(&|l| (nv.n * l).exp())
             })
         });
         let mut fr = Friction::new(m, self.t[0], self.x[0], self.model_velocity(0));
@@ -931,6 +950,26 @@ impl Prepared {
                 fr.anchor(self.x[i], self.u_still[i] - additive);
             }
         }
+    }
+
+    /// `ln |v|` of [`Prepared::model_velocity`] at every sample (−∞ where
+    /// it is 0), kept until the still samples change: the powers of the
+    /// Stribeck decay and of `nonlinear_viscous` are taken as `exp(p·ln|v|)`
+    /// from it (a `powf` per sample and shape was an eighth of a fit's
+    /// time).
+    fn ln_speed(&self) -> Arc<Vec<f64>> {
+        let mut cached = self
+            .terms
+            .ln_speed
+            .lock()
+            .unwrap_or_else(|e| e.into_inner());
+        Arc::clone(cached.get_or_insert_with(|| {
+            Arc::new(
+                (0..self.len())
+                    .map(|i| self.model_velocity(i).abs().ln())
+                    .collect(),
+            )
+        }))
     }
 
     /// Per-sample `|∂H/∂x|` [N/m] of the presliding branch (0 in gross

@@ -35,7 +35,7 @@ use std::path::Path;
 pub const NOISE_FACTOR: f64 = 1.5;
 
 /// The largest `Fs/Fc` of a Stribeck dip that comes back with an effect on
-/// a curve that had lost it ([`with_effect`]). Measured stiction levels lie
+/// a curve that had lost it (`with_effect`). Measured stiction levels lie
 /// within about twice the Coulomb level; 3 leaves a margin and refuses a
 /// "dip" that is really a second velocity curve.
 pub const MAX_RESTORED_DIP: f64 = 3.0;

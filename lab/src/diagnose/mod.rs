@@ -108,7 +108,7 @@ pub struct Step {
     /// The effect.
     pub effect: Effect,
     /// The effect it was fitted and accepted with, when neither passed
-    /// alone ([`best_pair`]); both steps of a pair carry the pair's
+    /// alone (`best_pair`); both steps of a pair carry the pair's
     /// figures and model.
     pub joint: Option<Effect>,
     /// Model error before [N] (held-out, above the floor).
