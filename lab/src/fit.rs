@@ -1489,29 +1489,29 @@ fn analytic_column(p: &Prepared, m: &Model, par: Param, idx: &[usize]) -> Option
         let f = p.filter_on(s, false);
         idx.iter().map(|&i| -p.weight[i].sqrt() * f[i]).collect()
     };
+    // At a still sample the friction is the measured force whatever the
+    // model (`Prepared::friction`): the force's derivative is 0 there.
+    let moving = |i: usize, f: f64| if p.still[i] { 0.0 } else { f };
+    let along =
+        |f: &dyn Fn(usize) -> f64| -> Vec<f64> { (0..p.len()).map(|i| moving(i, f(i))).collect() };
     match par {
         Param::Mass => Some(idx.iter().map(|&i| -p.weight[i].sqrt() * p.a[i]).collect()),
-        Param::Sigma => Some(col(&p.v)),
-        Param::F0 => Some(col(&vec![1.0; p.len()])),
+        Param::Sigma => Some(col(&along(&|i| p.v[i]))),
+        Param::F0 => Some(col(&along(&|_| 1.0))),
         Param::SigmaN => {
             let n = m.effects.nonlinear_viscous.map_or(0.5, |nv| nv.n);
-            let s: Vec<f64> = p.v.iter().map(|v| v.signum() * v.abs().powf(n)).collect();
-            Some(col(&s))
+            Some(col(&along(&|i| p.v[i].signum() * p.v[i].abs().powf(n))))
         }
         Param::RippleC | Param::RippleS => {
             let lam = m.effects.position_ripple.map_or(1.0, |r| r.wavelength);
-            let s: Vec<f64> =
-                p.x.iter()
-                    .map(|&x| {
-                        let th = 2.0 * PI * x / lam;
-                        if par == Param::RippleC {
-                            th.sin()
-                        } else {
-                            th.cos()
-                        }
-                    })
-                    .collect();
-            Some(col(&s))
+            Some(col(&along(&|i| {
+                let th = 2.0 * PI * p.x[i] / lam;
+                if par == Param::RippleC {
+                    th.sin()
+                } else {
+                    th.cos()
+                }
+            })))
         }
         _ => None,
     }

@@ -90,7 +90,7 @@ fn run_all(specs: Vec<SynthSpec>) -> Vec<Row> {
                                 &mut Progress::quiet(),
                             );
                             Row {
-                                named: rep.steps.iter().map(|s| s.effect).collect(),
+                                named: rep.effects_added().collect(),
                                 before: rep.rms_before,
                                 after: rep.rms_after,
                                 spec,

@@ -112,7 +112,8 @@ pub fn report_json(rep: &Report) -> String {
         })
         .collect();
     let v = json!({
-        "effects_added": rep.steps.iter().map(|s| s.effect.name()).collect::<Vec<_>>(),
+        "effects_added": rep.effects_added().map(Effect::name).collect::<Vec<_>>(),
+        "restored": rep.restored().map(Effect::name).collect::<Vec<_>>(),
         "metric": METRIC,
         "rms_before": rep.rms_before,
         "rms_after": rep.rms_after,
@@ -317,8 +318,16 @@ pub fn report_text(rep: &Report, source: &str) -> String {
             short(c.score, 4)
         );
     }
-    let added: Vec<&str> = rep.steps.iter().map(|s| s.effect.name()).collect();
+    let added: Vec<&str> = rep.effects_added().map(Effect::name).collect();
     let _ = writeln!(s, "effects added: [{}]", added.join(", "));
+    let restored: Vec<&str> = rep.restored().map(Effect::name).collect();
+    if !restored.is_empty() {
+        let _ = writeln!(
+            s,
+            "base parts restored: [{}] (lost by the base fit, part of the base model)",
+            restored.join(", ")
+        );
+    }
     let m = &rep.model;
     // The base parameters by their MODEL.md §7 names, each to its digits.
     let base = [
