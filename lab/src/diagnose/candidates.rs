@@ -278,20 +278,25 @@ pub(super) fn candidate_starts(p: &Prepared, m: &Model, effect: Effect, r: &[f64
         Effect::FrictionalLag => {
             // Lag and the Stribeck shape trade off (a base model fitted
             // without lag bends V, δ to mimic it), so the shape restarts too.
-            // It may even have dropped the Stribeck dip (V → 0, or Fs = Fc,
-            // where the lag has nothing to act on): restart it from the
-            // data's low speeds as the base model's grid does, at
-            // Fs = 1.4·Fc when it was gone.
+            // It may even have dropped the Stribeck dip (V → 0): restart
+            // it from the data's low speeds as the base model's grid does.
+            // Without a dip at all (Fs = Fc) the lag has nothing to act on:
+            // one restart, at Fs = 1.4·Fc and τ_L = 30 ms (three cost EMPS,
+            // which has no dip, a tenth of its time).
             let v_lo = low_speed(p).unwrap_or(m.v_stribeck);
-            for tau_l in [0.01, 0.03, 0.1] {
-                out.push(with(&|c| {
-                    c.effects.frictional_lag = Some(FrictionalLag { tau_l })
-                }));
+            let dip = fit::has_effect(m, Effect::Stribeck);
+            let taus: &[f64] = if dip { &[0.01, 0.03, 0.1] } else { &[0.03] };
+            for &tau_l in taus {
+                if dip {
+                    out.push(with(&|c| {
+                        c.effects.frictional_lag = Some(FrictionalLag { tau_l })
+                    }));
+                }
                 out.push(with(&|c| {
                     c.effects.frictional_lag = Some(FrictionalLag { tau_l });
                     c.delta = 2.0;
                     c.v_stribeck = v_lo;
-                    c.fs = if fit::has_effect(m, Effect::Stribeck) {
+                    c.fs = if dip {
                         c.fs.clamp(1.1 * c.fc, 2.0 * c.fc)
                     } else {
                         1.4 * c.fc
