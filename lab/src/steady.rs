@@ -729,6 +729,27 @@ pub fn report_text(rep: &SteadyReport, source: &str) -> String {
 mod tests {
     use super::*;
 
+    /// Readings of `truth` at `n` speeds `v0·ratio^k` in both directions
+    /// (positive first), each with Gaussian noise of `sigma` [N] from seed
+    /// `seed`.
+    fn readings(
+        truth: &Model,
+        (v0, ratio, n): (f64, f64, i32),
+        sigma: f64,
+        seed: u64,
+    ) -> Vec<Point> {
+        let mut rng = crate::synth::Rng::new(seed);
+        let mut points = Vec::new();
+        for k in 0..n {
+            let speed = v0 * ratio.powi(k);
+            for v in [speed, -speed] {
+                let tau = steady_force(truth, v) + sigma * rng.normal();
+                points.push(Point { v, tau });
+            }
+        }
+        points
+    }
+
     /// The noise estimate on a steep Stribeck fall sampled at ×2.2 speed
     /// steps (12 speeds per direction, as the generator's steady records):
     /// the second differences alone read the fall's curvature as noise;
@@ -738,15 +759,7 @@ mod tests {
         let mut truth = diagnose::fig5_model();
         (truth.fc, truth.fs, truth.v_stribeck, truth.delta) = (48.0, 81.4, 1.17e-3, 0.81);
         let sigma = 0.05;
-        let mut rng = crate::synth::Rng::new(5);
-        let mut points = Vec::new();
-        for k in 0..12 {
-            let speed = 2.49e-4 * 2.18f64.powi(k);
-            for v in [speed, -speed] {
-                let tau = steady_force(&truth, v) + sigma * rng.normal();
-                points.push(Point { v, tau });
-            }
-        }
+        let mut points = readings(&truth, (2.49e-4, 2.18, 12), sigma, 5);
         let rec = SteadyRecord::new(points.clone());
         let noise = rec.noise();
         assert!((0.5 * sigma..2.0 * sigma).contains(&noise), "{noise}");
@@ -769,15 +782,7 @@ mod tests {
         let mut truth = diagnose::fig5_model();
         (truth.fc, truth.fs, truth.v_stribeck, truth.delta) = (13.7, 22.2, 4e-3, 0.9);
         truth.effects.asymmetry = Some(Asymmetry { a: -0.29 });
-        let mut rng = crate::synth::Rng::new(3);
-        let mut points = Vec::new();
-        for k in 0..22 {
-            let speed = 1e-3 * 1.35f64.powi(k);
-            for v in [speed, -speed] {
-                let tau = steady_force(&truth, v) + 0.05 * rng.normal();
-                points.push(Point { v, tau });
-            }
-        }
+        let points = readings(&truth, (1e-3, 1.35, 22), 0.05, 3);
         let rep = diagnose_steady(&SteadyRecord::new(points), &[]);
         let named: Vec<Effect> = rep.steps.iter().map(|s| s.effect).collect();
         assert_eq!(
@@ -801,15 +806,7 @@ mod tests {
         let mut truth = diagnose::fig5_model();
         (truth.fc, truth.fs, truth.v_stribeck, truth.delta) = (10.28, 15.24, 4.72e-4, 2.1);
         truth.sigma = 867.0;
-        let mut rng = crate::synth::Rng::new(11);
-        let mut points = Vec::new();
-        for k in 0..24 {
-            let speed = 2.2e-5 * 1.35f64.powi(k);
-            for v in [speed, -speed] {
-                let tau = steady_force(&truth, v) + 0.06 * rng.normal();
-                points.push(Point { v, tau });
-            }
-        }
+        let points = readings(&truth, (2.2e-5, 1.35, 24), 0.06, 11);
         let rep = diagnose_steady(&SteadyRecord::new(points), &[]);
         let text = report_text(&rep, "test");
         assert!(!fit::has_effect(&rep.start, Effect::Stribeck), "{text}");
