@@ -43,8 +43,8 @@
 //! differences (one pass along the record each).
 
 use crate::reference::{
-    Asymmetry, Drift, DwellStiction, Effect, Friction, FrictionalLag, Model, NonlinearViscous,
-    Offset, PositionRipple, SampleTerms,
+    decay_of_power, Asymmetry, Drift, DwellStiction, Effect, Friction, FrictionalLag, Model,
+    NonlinearViscous, Offset, PositionRipple, SampleTerms,
 };
 use rayon::prelude::*;
 use std::f64::consts::PI;
@@ -330,20 +330,6 @@ struct TermCache {
     decay: Shapes<[u64; 2]>,
     speed_pow: Shapes<u64>,
     ln_speed: Mutex<Option<Arc<Vec<f64>>>>,
-}
-
-/// The Stribeck decay `exp(−(|v|/V)^δ)` from `l = ln(|v|/V)` (−∞ at
-/// v = 0, where it is 1); as [`crate::reference::stribeck_decay`] up to rounding (a few
-/// units in the last place: the power is `exp(δ·l)`, not `powf`).
-fn decay_from_ln(l: f64, delta: f64) -> f64 {
-    let p = (delta * l).exp();
-    // exp(−p) is 0 to the last bit beyond p = 745.2; its underflow path
-    // is slow.
-    if p > 746.0 {
-        0.0
-    } else {
-        (-p).exp()
-    }
 }
 
 /// Per-sample series by the bits of their shape parameters, oldest first.
@@ -929,14 +915,10 @@ impl Prepared {
             let (v_s, delta) = (m.v_stribeck, m.delta);
             TermCache::get(&self.terms.decay, [v_s.to_bits(), delta.to_bits()], || {
                 let ln_v = v_s.ln();
-                along(&|l| decay_from_ln(l - ln_v, delta))
+                along(&|l| decay_of_power((delta * (l - ln_v)).exp()))
             })
         });
-        let speed_pow = m.effects.nonlinear_viscous.map(|nv| {
-            TermCache::get(&self.terms.speed_pow, nv.n.to_bits(), || {
-                along(&|l| (nv.n * l).exp())
-            })
-        });
+        let speed_pow = m.effects.nonlinear_viscous.map(|nv| self.speed_pow(nv.n));
         let mut fr = Friction::new(m, self.t[0], self.x[0], self.model_velocity(0));
         for i in 0..self.len() {
             let terms = SampleTerms {
@@ -950,6 +932,15 @@ impl Prepared {
                 fr.anchor(self.x[i], self.u_still[i] - additive);
             }
         }
+    }
+
+    /// `|v|^n` of [`Prepared::model_velocity`] at every sample (0 at still
+    /// samples), as the walk's `nonlinear_viscous` term and its Jacobian
+    /// column take it (cached by `n`).
+    fn speed_pow(&self, n: f64) -> Arc<Vec<f64>> {
+        TermCache::get(&self.terms.speed_pow, n.to_bits(), || {
+            self.ln_speed().iter().map(|&l| (n * l).exp()).collect()
+        })
     }
 
     /// `ln |v|` of [`Prepared::model_velocity`] at every sample (−∞ where
@@ -1490,17 +1481,21 @@ fn analytic_column(p: &Prepared, m: &Model, par: Param, idx: &[usize]) -> Option
         idx.iter().map(|&i| -p.weight[i].sqrt() * f[i]).collect()
     };
     // At a still sample the friction is the measured force whatever the
-    // model (`Prepared::friction`): the force's derivative is 0 there.
-    let moving = |i: usize, f: f64| if p.still[i] { 0.0 } else { f };
-    let along =
-        |f: &dyn Fn(usize) -> f64| -> Vec<f64> { (0..p.len()).map(|i| moving(i, f(i))).collect() };
+    // model (`Prepared::friction`): the force's derivative is 0 there, as
+    // the model velocity is.
+    let along = |f: &dyn Fn(usize) -> f64| -> Vec<f64> {
+        (0..p.len())
+            .map(|i| if p.still[i] { 0.0 } else { f(i) })
+            .collect()
+    };
     match par {
         Param::Mass => Some(idx.iter().map(|&i| -p.weight[i].sqrt() * p.a[i]).collect()),
-        Param::Sigma => Some(col(&along(&|i| p.v[i]))),
+        Param::Sigma => Some(col(&along(&|i| p.model_velocity(i)))),
         Param::F0 => Some(col(&along(&|_| 1.0))),
         Param::SigmaN => {
             let n = m.effects.nonlinear_viscous.map_or(0.5, |nv| nv.n);
-            Some(col(&along(&|i| p.v[i].signum() * p.v[i].abs().powf(n))))
+            let pow = p.speed_pow(n);
+            Some(col(&along(&|i| p.model_velocity(i).signum() * pow[i])))
         }
         Param::RippleC | Param::RippleS => {
             let lam = m.effects.position_ripple.map_or(1.0, |r| r.wavelength);

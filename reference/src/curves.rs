@@ -15,6 +15,12 @@ pub fn stribeck_decay(v_stribeck: f64, delta: f64, v: f64) -> f64 {
     } else {
         r.powf(delta)
     };
+    decay_of_power(p)
+}
+
+/// `exp(−p)` for the power `p = (|v|/V)^δ` of [`stribeck_decay`], for a
+/// caller that has the power already.
+pub fn decay_of_power(p: f64) -> f64 {
     // exp(−p) is 0 to the last bit beyond p = 745.2 (the smallest
     // subnormal is e^−744.4); its underflow path is slow.
     if p > 746.0 {

@@ -26,7 +26,7 @@ pub mod predict;
 pub mod presliding;
 pub mod sim;
 
-pub use curves::{shape, steady_state, stribeck, stribeck_decay};
+pub use curves::{decay_of_power, shape, steady_state, stribeck, stribeck_decay};
 pub use effect::{Effect, UnknownEffect};
 pub use friction::{Friction, SampleTerms};
 pub use model::{

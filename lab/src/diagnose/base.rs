@@ -197,9 +197,7 @@ pub(super) fn simplify(
             continue;
         }
         progress(&format!("is {part} identifiable?"));
-        let without = remove_effect(&m, part, p);
-        let params = fit::params_of(&without);
-        let refit = fit::fit(p, &without, &params, &FitOptions::default(), &mut |_| {}).model;
+        let refit = refit_without(p, &m, part);
         let (with_rms, without_rms) = (held_rms(p, &m).0, held_rms(p, &refit).0);
         // A degenerate part is dropped unless the record clearly needs it
         // (its refit without is worse by more than DEGENERATE_KEEP); a
@@ -289,9 +287,7 @@ pub(super) fn drop_harmful(
         return (m, Vec::new());
     }
     progress("is presliding a better base without it?");
-    let without = remove_effect(&m, part, p);
-    let params = fit::params_of(&without);
-    let refit = fit::fit(p, &without, &params, &FitOptions::default(), &mut |_| {}).model;
+    let refit = refit_without(p, &m, part);
     let (with_rms, without_rms) = (held_rms(p, &m).0, held_rms(p, &refit).0);
     if without_rms < (1.0 - HARMFUL_GAIN) * with_rms {
         let why = format!(
@@ -301,4 +297,11 @@ pub(super) fn drop_harmful(
     } else {
         (m, Vec::new())
     }
+}
+
+/// `m` without `effect` ([`remove_effect`]), refitted on the record.
+pub(super) fn refit_without(p: &Prepared, m: &Model, effect: Effect) -> Model {
+    let without = remove_effect(m, effect, p);
+    let params = fit::params_of(&without);
+    fit::fit(p, &without, &params, &FitOptions::default(), &mut |_| {}).model
 }

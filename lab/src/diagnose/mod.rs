@@ -638,9 +638,7 @@ pub fn diagnose(
         while k < steps.len() {
             let effect = steps[k].effect;
             show(&format!("backward check: {effect}"));
-            let without = remove_effect(&model, effect, &p);
-            let params = fit::params_of(&without);
-            let refit = fit::fit(&p, &without, &params, &FitOptions::default(), &mut |_| {}).model;
+            let refit = refit_without(&p, &model, effect);
             let (w_rms, w_r) = held_rms(&p, &refit);
             // The share of the gap is a forward rule only: the refit
             // without an effect starts from the final model and often ends
@@ -697,9 +695,7 @@ pub fn diagnose(
                 continue;
             }
             show(&format!("swap check: {effect}"));
-            let without = remove_effect(&model, effect, &p);
-            let params = fit::params_of(&without);
-            let base = fit::fit(&p, &without, &params, &FitOptions::default(), &mut |_| {}).model;
+            let base = refit_without(&p, &model, effect);
             let base_r = p.residual(&base);
             let bic_cur = bic(&p, rms, fit::params_of(&model).len());
             let fits: Vec<Option<(f64, Effect, Model)>> = alts
@@ -745,10 +741,7 @@ pub fn diagnose(
         if both == [true, true] && !fit::has_effect(&model, Effect::Stribeck) {
             if let Some(k) = steps.iter().rposition(|s| look_alike(s.effect).is_some()) {
                 let effect = steps.remove(k).effect;
-                let without = remove_effect(&model, effect, &p);
-                let params = fit::params_of(&without);
-                let refit =
-                    fit::fit(&p, &without, &params, &FitOptions::default(), &mut |_| {}).model;
+                let refit = refit_without(&p, &model, effect);
                 let (w_rms, w_r) = held_rms(&p, &refit);
                 pruned.push((
                     effect,
