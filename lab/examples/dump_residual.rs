@@ -5,7 +5,7 @@
 //! half-widths `diagnose` chooses)
 
 use breakaway_lab::data;
-use breakaway_lab::fit::Prepared;
+use breakaway_lab::residual::Prepared;
 use breakaway_reference::Model;
 use std::path::Path;
 
@@ -17,7 +17,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     let rec = data::load(Path::new(d))?;
     let model = Model::load(Path::new(m))?;
-    let auto = breakaway_lab::fit::auto_window(&rec);
+    let auto = breakaway_lab::residual::auto_window(&rec);
     let k = args
         .get(2)
         .and_then(|s| s.parse().ok())
@@ -28,7 +28,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .unwrap_or(auto.force);
     let mut p = Prepared::with_window(
         &rec,
-        breakaway_lab::fit::Window {
+        breakaway_lab::residual::Window {
             velocity: k,
             force: kf,
         },

@@ -4,7 +4,7 @@
 //! `cargo run -p breakaway-lab --release --example window_scan -- DATA TRUTH.toml`
 
 use breakaway_lab::data;
-use breakaway_lab::fit::{self, Prepared, Window};
+use breakaway_lab::residual::{self, Prepared, Window};
 use breakaway_reference::Model;
 use std::path::Path;
 
@@ -20,7 +20,7 @@ fn main() {
     };
     let mut base = truth.clone();
     base.effects = Default::default();
-    println!("auto {:?}", fit::auto_window(&rec));
+    println!("auto {:?}", residual::auto_window(&rec));
     for kf in [4usize, 8, 16, 32, 64, 100] {
         let mut p = Prepared::with_window(
             &rec,
@@ -36,8 +36,8 @@ fn main() {
         let rb = p.rms(&p.residual(&base), Some(true));
         println!(
             "kf {kf:2}: floor {floor:.4} true {rt:.4} (err {:.4}) base {rb:.4} (err {:.4}) sigma0 {:.4}",
-            fit::model_error(rt, floor),
-            fit::model_error(rb, floor),
+            residual::model_error(rt, floor),
+            residual::model_error(rb, floor),
             p.sigma0
         );
     }

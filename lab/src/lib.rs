@@ -31,6 +31,7 @@ pub mod commands;
 pub mod data;
 pub mod diagnose;
 pub mod fit;
+pub mod residual;
 pub mod format;
 pub mod linalg;
 pub mod lugre;

@@ -23,7 +23,7 @@
 //! report gives the noise beside it.
 
 use crate::diagnose::{self, required_gain};
-use crate::fit::quantile;
+use crate::residual::quantile;
 use crate::fit::{self, FitOptions, Param, Residuals};
 use crate::reference::{stribeck, Asymmetry, Effect, Effects, Model, NonlinearViscous, Offset};
 use crate::static_curve::Point;

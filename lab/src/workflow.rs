@@ -5,7 +5,8 @@
 use crate::cli::{DiagnoseArgs, FitArgs, StaticCurveArgs, SynthArgs, ValidateArgs, WindowArg};
 use crate::data::{self, Record};
 use crate::diagnose::{self, Options};
-use crate::fit::{self, FitOptions, Prepared, Window};
+use crate::fit::{self, FitOptions};
+use crate::residual::{self, Prepared, Window};
 use crate::progress::Progress;
 use crate::reference::Model;
 use crate::synth::{self, SynthSpec};
@@ -58,11 +59,11 @@ fn load_data(path: &Path, window: Option<usize>) -> Result<(Record, Window), Err
             Ok(k)
         }
     };
-    let min_window = enough(window.unwrap_or(fit::DEFAULT_HALF_WIDTH))?;
+    let min_window = enough(window.unwrap_or(residual::DEFAULT_HALF_WIDTH))?;
     let window = match window {
         Some(k) => Window::both(k),
         None => {
-            let w = fit::auto_window(&rec);
+            let w = residual::auto_window(&rec);
             let most = (rec.len().saturating_sub(20) / 20).max(min_window);
             Window {
                 velocity: w.velocity.min(most),
@@ -189,7 +190,7 @@ pub fn validate(args: ValidateArgs, out: &mut dyn Write) -> Result<(), Error> {
     let r = p.residual(&m);
     let all = p.rms(&r, None);
     let floor = p.floor(None);
-    let gap = fit::model_error(all, floor);
+    let gap = residual::model_error(all, floor);
     let labels = diagnose::regimes(&p, &m);
     let stats = diagnose::regime_stats(&p, &r, &labels);
     let text = if args.json {

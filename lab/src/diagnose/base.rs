@@ -28,7 +28,7 @@ pub fn initial_base(p: &Prepared, progress: &mut dyn FnMut(&str)) -> Model {
         .valid()
         .filter(|&i| !p.held_out[i] && p.v[i].abs() >= v_med)
         .collect();
-    let (mut mass, mut fc) = fit::mass_and_coulomb(p, &fast).unwrap_or((f64::NAN, f64::NAN));
+    let (mut mass, mut fc) = residual::mass_and_coulomb(p, &fast).unwrap_or((f64::NAN, f64::NAN));
     if !(fc.is_finite() && fc > 0.0) {
         let mut u: Vec<f64> = fast.iter().map(|&i| p.u_mid[i].abs()).collect();
         fc = quantile(&mut u, 0.5).max(1e-6);
@@ -263,7 +263,7 @@ pub fn without_effect(m: &Model, effect: Effect, neutral_v: impl FnOnce() -> f64
     c
 }
 
-/// Least relative fall of the held-out RMS for which [`drop_harmful`]
+/// Least relative fall of the held-out RMS for which `drop_harmful`
 /// drops the presliding part before the candidates.
 pub const HARMFUL_GAIN: f64 = 0.05;
 

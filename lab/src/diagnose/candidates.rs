@@ -412,7 +412,7 @@ pub(super) fn long_presliding(p: &Prepared, m: &Model) -> bool {
 ///
 /// `v_rest` is not fitted by least squares (t_d jumps with it). The grid
 /// holds the encoder's rest (no count change for 50 samples, the 1/T
-/// velocity of [`crate::fit`]) and fractions of the Stribeck velocity,
+/// velocity of [`crate::residual`]) and fractions of the Stribeck velocity,
 /// which also count the slow presliding creep before a break-away as rest.
 pub(super) fn dwell_starts(p: &Prepared, m: &Model, r: &[f64]) -> Vec<Model> {
     let count_rate = p.resolution / p.dt;

@@ -2,9 +2,9 @@
 //! the measurement disagree, which effect of MODEL.md §5 is missing, and how
 //! much adding it shrinks the gap. One stage per file:
 //!
-//! 1. **Residual** ([`crate::fit`]): the force residual along the measured
-//!    motion (local by construction, MODEL.md §8), for the current model
-//!    refitted on the training blocks; the start (`base.rs`): the base model
+//! 1. **Residual** ([`crate::residual`]): the force residual along the
+//!    measured motion (local by construction, MODEL.md §8), for the current
+//!    model refitted on the training blocks ([`crate::fit`]); the start (`base.rs`): the base model
 //!    identified from the data and the error weights every figure shares.
 //! 2. **Localise** (`localise.rs`): every sample gets a regime (rest,
 //!    presliding after a turning point, break-away after a rest, low speed,
@@ -26,7 +26,8 @@
 //!    names.
 
 use crate::data::Record;
-use crate::fit::{self, quantile, FitOptions, Param, Prepared};
+use crate::fit::{self, FitOptions, Param};
+use crate::residual::{self, quantile, Prepared};
 use crate::progress::Progress;
 use crate::reference::{
     Asymmetry, Drift, DwellStiction, Effect, Effects, Friction, FrictionalLag, Model,
@@ -60,14 +61,14 @@ pub const MIN_HELD_OUT_WINDOWS: usize = 1;
 /// Fewest moving samples in the held-out blocks for a record to be judged,
 /// with force-kernel half-width `kf` ([`MIN_HELD_OUT_WINDOWS`]).
 pub fn min_moving_held_out(kf: usize) -> usize {
-    fit::HELD_OUT.len() * MIN_HELD_OUT_WINDOWS * (2 * kf + 1)
+    residual::HELD_OUT.len() * MIN_HELD_OUT_WINDOWS * (2 * kf + 1)
 }
 
 /// Options of the workflow.
 #[derive(Clone, Debug)]
 pub struct Options {
     /// Savitzky–Golay half-widths.
-    pub window: fit::Window,
+    pub window: residual::Window,
     /// Candidate effects considered; all when empty.
     pub candidates: Vec<Effect>,
 }
@@ -75,7 +76,7 @@ pub struct Options {
 impl Default for Options {
     fn default() -> Self {
         Options {
-            window: fit::Window::both(fit::DEFAULT_HALF_WIDTH),
+            window: residual::Window::both(residual::DEFAULT_HALF_WIDTH),
             candidates: Vec::new(),
         }
     }
@@ -174,7 +175,7 @@ pub struct Report {
     /// Model before the first step (refitted start).
     pub start: Model,
     /// Model error of `start` on the held-out blocks [N]:
-    /// [`fit::model_error`] of its weighted RMS and [`Report::floor`].
+    /// [`residual::model_error`] of its weighted RMS and [`Report::floor`].
     pub rms_before: f64,
     /// Model error of the final model on the held-out blocks [N].
     pub rms_after: f64,
@@ -480,7 +481,7 @@ pub fn diagnose(
         None => base_weights(&mut p, &mut show),
     };
     let floor = p.floor(Some(true));
-    let given = start.map(|m| fit::model_error(held_rms(&p, m).0, floor));
+    let given = start.map(|m| residual::model_error(held_rms(&p, m).0, floor));
     show("refitting with error weights");
     let params = fit::params_of(&model);
     model = fit::fit(&p, &model, &params, &FitOptions::default(), &mut |_| {}).model;
@@ -577,7 +578,7 @@ pub fn diagnose(
             .is_some_and(|c| c.score < 0.0 && enough_gain(c.effect, rms, c.rms, floor));
         // Neither alone: the best pair of the round's leaders, if one
         // passes (see [`best_pair`]).
-        let pair = if accept || fit::model_error(rms, floor) < PAIR_MIN_GAP * floor {
+        let pair = if accept || residual::model_error(rms, floor) < PAIR_MIN_GAP * floor {
             None
         } else {
             show(&format!("round {}: fitting pairs", round + 1));
@@ -606,8 +607,8 @@ pub fn diagnose(
         let step = Step {
             effect: best.effect,
             joint,
-            rms_before: fit::model_error(rms, floor),
-            rms_after: fit::model_error(new_rms, floor),
+            rms_before: residual::model_error(rms, floor),
+            rms_after: residual::model_error(new_rms, floor),
             score: best.score,
             model: best.model.clone(),
             signal: sig_of(best.effect),
@@ -647,8 +648,8 @@ pub fn diagnose(
             if gain_above_floor(w_rms, rms, floor) < required_gain(effect) {
                 pruned.push((
                     effect,
-                    fit::model_error(w_rms, floor),
-                    fit::model_error(rms, floor),
+                    residual::model_error(w_rms, floor),
+                    residual::model_error(rms, floor),
                 ));
                 steps.remove(k);
                 model = refit;
@@ -719,8 +720,8 @@ pub fn diagnose(
                 swapped.push((
                     effect,
                     alt,
-                    fit::model_error(rms, floor),
-                    fit::model_error(new_rms, floor),
+                    residual::model_error(rms, floor),
+                    residual::model_error(new_rms, floor),
                 ));
                 step.effect = alt;
                 step.model = m.clone();
@@ -745,8 +746,8 @@ pub fn diagnose(
                 let (w_rms, w_r) = held_rms(&p, &refit);
                 pruned.push((
                     effect,
-                    fit::model_error(w_rms, floor),
-                    fit::model_error(rms, floor),
+                    residual::model_error(w_rms, floor),
+                    residual::model_error(rms, floor),
                 ));
                 (model, rms, r) = (refit, w_rms, w_r);
             }
@@ -770,7 +771,7 @@ pub fn diagnose(
             continue;
         };
         show(&format!("degenerate after refits: {effect}"));
-        let before = fit::model_error(rms, floor);
+        let before = residual::model_error(rms, floor);
         let as_viscous = (effect == Effect::NonlinearViscous)
             .then(|| nonlinear_viscous_as_viscous(&model))
             .flatten();
@@ -781,7 +782,7 @@ pub fn diagnose(
         model = fit::fit(&p, &next, &params, &FitOptions::default(), &mut |_| {}).model;
         (rms, r) = held_rms(&p, &model);
         if written && !viscous_named {
-            let after = fit::model_error(rms, floor);
+            let after = residual::model_error(rms, floor);
             dropped.push((
                 effect,
                 format!("{why}: written as `viscous`, model error {before:.4e} N -> {after:.4e} N"),
@@ -812,8 +813,8 @@ pub fn diagnose(
         resolution: p.resolution,
         given,
         start: start_model,
-        rms_before: fit::model_error(raw_before, floor),
-        rms_after: fit::model_error(rms, floor),
+        rms_before: residual::model_error(raw_before, floor),
+        rms_after: residual::model_error(rms, floor),
         raw_before,
         raw_after: rms,
         floor,
@@ -839,7 +840,7 @@ pub fn diagnose(
 mod tests {
     use super::*;
     use crate::data::Record;
-    use crate::fit::Window;
+    use crate::residual::Window;
 
     /// A reversing motion quantised to 1 µm, for starting models only.
     fn prepared() -> Prepared {

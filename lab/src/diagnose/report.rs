@@ -240,7 +240,7 @@ pub fn report_text(rep: &Report, source: &str) -> String {
                     format!(
                         "{} {} N",
                         c.effect,
-                        short(fit::model_error(c.rms, rep.floor), 3)
+                        short(residual::model_error(c.rms, rep.floor), 3)
                     )
                 })
                 .collect();

@@ -67,7 +67,7 @@ pub fn gain_above_floor(before: f64, after: f64, floor: f64) -> f64 {
     }
 }
 
-/// Least share of the gap (model error above the floor, [`fit::model_error`])
+/// Least share of the gap (model error above the floor, [`residual::model_error`])
 /// that a named effect must remove, on top of [`required_gain`].
 ///
 /// The floor counts force noise and encoder resolution, but not all that a
@@ -85,9 +85,9 @@ pub const MIN_GAP_SHARE: f64 = 0.25;
 /// rms [N]) removes: `1 − e(after)/e(before)` with `e` the model error
 /// above `floor`; 0 when there is no gap.
 pub fn gap_share(before: f64, after: f64, floor: f64) -> f64 {
-    let e0 = fit::model_error(before, floor);
+    let e0 = residual::model_error(before, floor);
     if e0 > 0.0 {
-        1.0 - fit::model_error(after, floor) / e0
+        1.0 - residual::model_error(after, floor) / e0
     } else {
         0.0
     }
@@ -155,7 +155,7 @@ pub fn tied_look_alike(step: &Step, floor: f64) -> Option<(Effect, f64, f64)> {
         step.candidates
             .iter()
             .find(|c| c.effect == e)
-            .map(|c| fit::model_error(c.rms, floor))
+            .map(|c| residual::model_error(c.rms, floor))
     };
     let (mine, theirs) = (err(step.effect)?, err(other)?);
     ((mine - theirs).abs() <= TIE_SHARE * step.rms_before).then_some((other, mine, theirs))
@@ -250,8 +250,8 @@ pub const NESTED_GAP_GAIN: f64 = 0.1;
 pub(super) fn prefer_nested(cands: &mut [Candidate], floor: f64) {
     let pos = |effect: Effect| cands.iter().position(|c| c.effect == effect);
     if let (Some(0), Some(v)) = (pos(Effect::NonlinearViscous), pos(Effect::Viscous)) {
-        let general = fit::model_error(cands[0].rms, floor);
-        let nested = fit::model_error(cands[v].rms, floor);
+        let general = residual::model_error(cands[0].rms, floor);
+        let nested = residual::model_error(cands[v].rms, floor);
         if general > (1.0 - NESTED_GAP_GAIN) * nested {
             cands.swap(0, v);
         }
