@@ -500,4 +500,3 @@ pub fn levenberg_marquardt(
     }
     (th, cost, passes)
 }
-

@@ -1164,9 +1164,9 @@ pub fn model_error(rms: f64, floor: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::data::Record;
     use crate::reference::DwellStiction;
     use std::f64::consts::PI;
-    use crate::data::Record;
 
     fn record(n: usize, dt: f64, x: impl Fn(f64) -> f64) -> Record {
         let t: Vec<f64> = (0..n).map(|i| i as f64 * dt).collect();

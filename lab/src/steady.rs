@@ -23,9 +23,9 @@
 //! report gives the noise beside it.
 
 use crate::diagnose::{self, required_gain};
-use crate::residual::quantile;
 use crate::fit::{self, FitOptions, Param, Residuals};
 use crate::reference::{stribeck, Asymmetry, Effect, Effects, Model, NonlinearViscous, Offset};
+use crate::residual::quantile;
 use crate::static_curve::Point;
 use crate::Error;
 use std::path::Path;

@@ -6,9 +6,9 @@ use crate::cli::{DiagnoseArgs, FitArgs, StaticCurveArgs, SynthArgs, ValidateArgs
 use crate::data::{self, Record};
 use crate::diagnose::{self, Options};
 use crate::fit::{self, FitOptions};
-use crate::residual::{self, Prepared, Window};
 use crate::progress::Progress;
 use crate::reference::Model;
+use crate::residual::{self, Prepared, Window};
 use crate::synth::{self, SynthSpec};
 use crate::{emit, Error};
 use std::io::Write;

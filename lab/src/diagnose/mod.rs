@@ -27,12 +27,12 @@
 
 use crate::data::Record;
 use crate::fit::{self, FitOptions, Param};
-use crate::residual::{self, quantile, Prepared};
 use crate::progress::Progress;
 use crate::reference::{
     Asymmetry, Drift, DwellStiction, Effect, Effects, Friction, FrictionalLag, Model,
     NonlinearViscous, Offset, PositionRipple,
 };
+use crate::residual::{self, quantile, Prepared};
 use rayon::prelude::*;
 use std::f64::consts::PI;
 
