@@ -362,8 +362,25 @@ fn analytic_column(p: &Prepared, m: &Model, par: Param, idx: &[usize]) -> Option
     }
 }
 
+/// Encoder counts of the shortest [`presliding_cap`] (the longest start of
+/// the base model's grid).
+pub const PRESLIDING_CAP_COUNTS: f64 = 640.0;
+
+/// The longest presliding distance `z_max` [m] a fit may reach on `p`: the
+/// range of its positions, at least [`PRESLIDING_CAP_COUNTS`] encoder
+/// counts. A longer one never reaches gross sliding on the record, so the
+/// record cannot tell it from any other long one; it is where a fit goes
+/// when the branch memory carries the friction over the whole stroke. On
+/// development record 2400158 (point-to-point moves over 39 mm) the base
+/// fit ran to `z_max` = 66 m with Fc = 8e-13 N (true: 4.7 µm and 25.6 N),
+/// and no candidate could leave that basin.
+pub fn presliding_cap(p: &Prepared) -> f64 {
+    p.travel().max(PRESLIDING_CAP_COUNTS * p.resolution)
+}
+
 /// Levenberg–Marquardt fit of the parameters `params` of `m0` on the
-/// training set; `tick` is called once per iteration (for progress).
+/// training set, `z_max` at most [`presliding_cap`]; `tick` is called once
+/// per iteration (for progress).
 pub fn fit(
     p: &Prepared,
     m0: &Model,
@@ -374,16 +391,18 @@ pub fn fit(
     let t_span = (p.t[p.len() - 1] - p.t[0]).max(1e-9);
     let idx = train_indices(p);
     let th0 = encode(m0, params, t_span);
+    let z_cap = presliding_cap(p);
     let problem = ModelProblem {
         p,
         m0,
         params,
         idx: &idx,
         t_span,
+        z_cap,
     };
     let (th, cost, passes) = levenberg_marquardt(&problem, th0, opts, tick);
     FitResult {
-        model: decode(m0, params, &th, t_span),
+        model: problem.model_at(&th),
         cost,
         passes,
     }
@@ -410,17 +429,27 @@ struct ModelProblem<'a> {
     params: &'a [Param],
     idx: &'a [usize],
     t_span: f64,
+    /// Longest presliding distance [m] ([`presliding_cap`]).
+    z_cap: f64,
+}
+
+impl ModelProblem<'_> {
+    /// The model at parameters `th`, its presliding distance clamped to
+    /// [`ModelProblem::z_cap`].
+    fn model_at(&self, th: &[f64]) -> Model {
+        let mut m = decode(self.m0, self.params, th, self.t_span);
+        m.z_max = m.z_max.min(self.z_cap);
+        m
+    }
 }
 
 impl Residuals for ModelProblem<'_> {
     fn residuals(&self, th: &[f64]) -> Vec<f64> {
-        let m = decode(self.m0, self.params, th, self.t_span);
-        train_vec(self.p, &m, self.idx)
+        train_vec(self.p, &self.model_at(th), self.idx)
     }
 
     fn column(&self, j: usize, th: &[f64]) -> Option<Vec<f64>> {
-        let m = decode(self.m0, self.params, th, self.t_span);
-        analytic_column(self.p, &m, *self.params.get(j)?, self.idx)
+        analytic_column(self.p, &self.model_at(th), *self.params.get(j)?, self.idx)
     }
 }
 
@@ -499,4 +528,59 @@ pub fn levenberg_marquardt(
         }
     }
     (th, cost, passes)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::data::Record;
+
+    /// A 2 s record at 1 kHz: a 2 mm sinusoid on a 1 µm encoder, its force
+    /// that of a 1 kg axis with a Coulomb level of 1 N.
+    fn stroke() -> Record {
+        let t: Vec<f64> = (0..2000).map(|i| f64::from(i) * 1e-3).collect();
+        let w = 2.0 * PI;
+        let x = t
+            .iter()
+            .map(|&t| (1e-3 * (w * t).sin() / 1e-6).floor() * 1e-6)
+            .collect();
+        let u = t
+            .iter()
+            .map(|&t| -1e-3 * w * w * (w * t).sin() + (w * t).cos().signum())
+            .collect();
+        Record {
+            t,
+            u,
+            x,
+            v: None,
+            source: "test".into(),
+        }
+    }
+
+    /// The fitted presliding distance never exceeds the record's travel
+    /// (here 2 mm, more than 640 counts), however long the start.
+    #[test]
+    fn presliding_distance_is_at_most_the_travel() {
+        let p = Prepared::new(&stroke(), 4);
+        let cap = presliding_cap(&p);
+        assert!((cap - p.travel()).abs() < 1e-12 && (cap - 2e-3).abs() < 2e-5);
+        let mut m = crate::diagnose::fig5_model();
+        m.z_max = 50.0; // metres: far beyond the stroke
+        for max_iter in [0, 40] {
+            let opts = FitOptions {
+                max_iter,
+                ..FitOptions::default()
+            };
+            let fitted = fit(&p, &m, &[Param::ZMax, Param::Fc], &opts, &mut |_| {});
+            assert!(fitted.model.z_max <= cap, "z_max {}", fitted.model.z_max);
+        }
+        // A record that hardly moves keeps the base grid's longest start.
+        let mut still = stroke();
+        still
+            .x
+            .iter_mut()
+            .for_each(|x| *x = (*x * 1e-3 / 1e-6).floor() * 1e-6);
+        let q = Prepared::new(&still, 4);
+        assert!((presliding_cap(&q) - PRESLIDING_CAP_COUNTS * q.resolution).abs() < 1e-15);
+    }
 }

@@ -555,6 +555,16 @@ impl Prepared {
         k..self.len().saturating_sub(k)
     }
 
+    /// The range of the measured positions over the valid samples [m].
+    pub fn travel(&self) -> f64 {
+        let (lo, hi) = self
+            .valid()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), i| {
+                (a.min(self.x[i]), b.max(self.x[i]))
+            });
+        (hi - lo).max(0.0)
+    }
+
     /// Median `|v̂|` [m/s] of the valid samples that move (not still), or
     /// `None` when none does.
     pub fn median_moving_speed(&self) -> Option<f64> {
