@@ -396,12 +396,7 @@ const PRESLIDING_RESTARTS: [f64; 2] = [15.0, 60.0];
 /// Whether `m`'s presliding distance exceeds [`LONG_PRESLIDING`] of the
 /// range of the measured positions.
 pub(super) fn long_presliding(p: &Prepared, m: &Model) -> bool {
-    let (lo, hi) = p
-        .valid()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), i| {
-            (a.min(p.x[i]), b.max(p.x[i]))
-        });
-    fit::has_effect(m, Effect::Presliding) && m.z_max > LONG_PRESLIDING * (hi - lo)
+    fit::has_effect(m, Effect::Presliding) && m.z_max > LONG_PRESLIDING * p.travel()
 }
 
 /// Starting models for `dwell_stiction`: a grid over the rest threshold
