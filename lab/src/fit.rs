@@ -372,7 +372,7 @@ pub const PRESLIDING_CAP_COUNTS: f64 = 640.0;
 /// record cannot tell it from any other long one; it is where a fit goes
 /// when the branch memory carries the friction over the whole stroke. On
 /// development record 2400158 (point-to-point moves over 39 mm) the base
-/// fit ran to `z_max` = 66 m with Fc = 8e-13 N (true: 4.7 µm and 25.6 N),
+/// fit ran to `z_max` = 66 m with Fc = 8e-13 N (true: 1.9 µm and 25.6 N),
 /// and no candidate could leave that basin.
 pub fn presliding_cap(p: &Prepared) -> f64 {
     p.travel().max(PRESLIDING_CAP_COUNTS * p.resolution)
