@@ -137,7 +137,7 @@ pub const FS_EXCESS_MAX: f64 = 10.0;
 /// Lower bound used for log-scaled values that are 0 in a model.
 const TINY: f64 = 1e-300;
 
-fn get(m: &Model, p: Param, t_span: f64) -> f64 {
+fn get(m: &Model, p: Param, sc: Scales) -> f64 {
     let e = &m.effects;
     let rip = e.position_ripple.unwrap_or(PositionRipple {
         amplitude: 0.0,
@@ -170,7 +170,7 @@ fn get(m: &Model, p: Param, t_span: f64) -> f64 {
         Param::DwellDfs => dw.delta_fs.max(1e-6 * m.fc).ln(),
         Param::DwellGamma => dw.gamma.ln(),
         Param::LagTau => e.frictional_lag.map_or(0.0, |l| l.tau_l.ln()),
-        Param::DriftBeta => e.drift.map_or(0.0, |d| d.beta) * t_span,
+        Param::DriftBeta => e.drift.map_or(0.0, |d| d.beta) * sc.t_span,
         Param::SigmaN => e.nonlinear_viscous.map_or(0.0, |nv| nv.sigma_n),
         Param::NvExp => {
             let n = e.nonlinear_viscous.map_or(0.5, |nv| nv.n);
@@ -181,7 +181,7 @@ fn get(m: &Model, p: Param, t_span: f64) -> f64 {
     }
 }
 
-fn set(m: &mut Model, p: Param, th: f64, t_span: f64) {
+fn set(m: &mut Model, p: Param, th: f64, sc: Scales) {
     let e = &mut m.effects;
     match p {
         Param::Mass => m.mass = th.max(1e-9),
@@ -200,7 +200,7 @@ fn set(m: &mut Model, p: Param, th: f64, t_span: f64) {
             m.delta = DELTA_RANGE.0 + (DELTA_RANGE.1 - DELTA_RANGE.0) * u;
         }
         Param::Sigma => m.sigma = th.max(0.0),
-        Param::ZMax => m.z_max = th.clamp(-200.0, 200.0).exp(),
+        Param::ZMax => m.z_max = th.clamp(-200.0, 200.0).exp().min(sc.z_max),
         Param::F0 => e.offset = Some(Offset { f0: th }),
         Param::Asym => {
             e.asymmetry = Some(Asymmetry {
@@ -248,7 +248,11 @@ fn set(m: &mut Model, p: Param, th: f64, t_span: f64) {
                 tau_l: th.clamp(1e-3f64.ln(), 100f64.ln()).exp(),
             })
         }
-        Param::DriftBeta => e.drift = Some(Drift { beta: th / t_span }),
+        Param::DriftBeta => {
+            e.drift = Some(Drift {
+                beta: th / sc.t_span,
+            })
+        }
         Param::SigmaN | Param::NvExp => {
             let mut nv = e.nonlinear_viscous.unwrap_or(NonlinearViscous {
                 sigma_n: 0.0,
@@ -265,16 +269,43 @@ fn set(m: &mut Model, p: Param, th: f64, t_span: f64) {
     }
 }
 
+/// What the parameter maps take from the record.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Scales {
+    /// Length of the record [s]: the drift rate is fitted as `β·t_span`.
+    pub t_span: f64,
+    /// Longest presliding distance `z_max` a fit may reach [m]
+    /// ([`presliding_cap`]).
+    pub z_max: f64,
+}
+
+impl Scales {
+    /// No record behind the parameters (steady-state curves): `t_span` of
+    /// 1 s, no bound on `z_max`.
+    pub const UNIT: Scales = Scales {
+        t_span: 1.0,
+        z_max: f64::INFINITY,
+    };
+
+    /// The scales of the record `p`.
+    pub fn of(p: &Prepared) -> Scales {
+        Scales {
+            t_span: (p.t[p.len() - 1] - p.t[0]).max(1e-9),
+            z_max: presliding_cap(p),
+        }
+    }
+}
+
 /// The parameter vector of `m` for `params`.
-pub fn encode(m: &Model, params: &[Param], t_span: f64) -> Vec<f64> {
-    params.iter().map(|&p| get(m, p, t_span)).collect()
+pub fn encode(m: &Model, params: &[Param], sc: Scales) -> Vec<f64> {
+    params.iter().map(|&p| get(m, p, sc)).collect()
 }
 
 /// `m` with the parameter vector `th` applied.
-pub fn decode(m: &Model, params: &[Param], th: &[f64], t_span: f64) -> Model {
+pub fn decode(m: &Model, params: &[Param], th: &[f64], sc: Scales) -> Model {
     let mut out = m.clone();
     for (&p, &x) in params.iter().zip(th) {
-        set(&mut out, p, x, t_span);
+        set(&mut out, p, x, sc);
     }
     out
 }
@@ -379,8 +410,9 @@ pub fn presliding_cap(p: &Prepared) -> f64 {
 }
 
 /// Levenberg–Marquardt fit of the parameters `params` of `m0` on the
-/// training set, `z_max` at most [`presliding_cap`]; `tick` is called once
-/// per iteration (for progress).
+/// training set, in the [`Scales`] of the record (`z_max` at most
+/// [`presliding_cap`]); `tick` is called once per iteration (for
+/// progress).
 pub fn fit(
     p: &Prepared,
     m0: &Model,
@@ -388,21 +420,19 @@ pub fn fit(
     opts: &FitOptions,
     tick: &mut dyn FnMut(usize),
 ) -> FitResult {
-    let t_span = (p.t[p.len() - 1] - p.t[0]).max(1e-9);
+    let scales = Scales::of(p);
     let idx = train_indices(p);
-    let th0 = encode(m0, params, t_span);
-    let z_cap = presliding_cap(p);
+    let th0 = encode(m0, params, scales);
     let problem = ModelProblem {
         p,
         m0,
         params,
         idx: &idx,
-        t_span,
-        z_cap,
+        scales,
     };
     let (th, cost, passes) = levenberg_marquardt(&problem, th0, opts, tick);
     FitResult {
-        model: problem.model_at(&th),
+        model: decode(m0, params, &th, scales),
         cost,
         passes,
     }
@@ -428,28 +458,18 @@ struct ModelProblem<'a> {
     m0: &'a Model,
     params: &'a [Param],
     idx: &'a [usize],
-    t_span: f64,
-    /// Longest presliding distance [m] ([`presliding_cap`]).
-    z_cap: f64,
-}
-
-impl ModelProblem<'_> {
-    /// The model at parameters `th`, its presliding distance clamped to
-    /// [`ModelProblem::z_cap`].
-    fn model_at(&self, th: &[f64]) -> Model {
-        let mut m = decode(self.m0, self.params, th, self.t_span);
-        m.z_max = m.z_max.min(self.z_cap);
-        m
-    }
+    scales: Scales,
 }
 
 impl Residuals for ModelProblem<'_> {
     fn residuals(&self, th: &[f64]) -> Vec<f64> {
-        train_vec(self.p, &self.model_at(th), self.idx)
+        let m = decode(self.m0, self.params, th, self.scales);
+        train_vec(self.p, &m, self.idx)
     }
 
     fn column(&self, j: usize, th: &[f64]) -> Option<Vec<f64>> {
-        analytic_column(self.p, &self.model_at(th), *self.params.get(j)?, self.idx)
+        let m = decode(self.m0, self.params, th, self.scales);
+        analytic_column(self.p, &m, *self.params.get(j)?, self.idx)
     }
 }
 
@@ -533,35 +553,20 @@ pub fn levenberg_marquardt(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::data::Record;
+    use crate::residual::tests::record;
 
-    /// A 2 s record at 1 kHz: a 2 mm sinusoid on a 1 µm encoder, its force
-    /// that of a 1 kg axis with a Coulomb level of 1 N.
-    fn stroke() -> Record {
-        let t: Vec<f64> = (0..2000).map(|i| f64::from(i) * 1e-3).collect();
+    /// A 2 mm sinusoid (1 Hz, 2 s at 1 kHz) read by an encoder of `q` [m].
+    fn stroke(q: f64, amplitude: f64) -> Prepared {
         let w = 2.0 * PI;
-        let x = t
-            .iter()
-            .map(|&t| (1e-3 * (w * t).sin() / 1e-6).floor() * 1e-6)
-            .collect();
-        let u = t
-            .iter()
-            .map(|&t| -1e-3 * w * w * (w * t).sin() + (w * t).cos().signum())
-            .collect();
-        Record {
-            t,
-            u,
-            x,
-            v: None,
-            source: "test".into(),
-        }
+        let rec = record(2000, 1e-3, |t| (amplitude * (w * t).sin() / q).floor() * q);
+        Prepared::new(&rec, 4)
     }
 
     /// The fitted presliding distance never exceeds the record's travel
     /// (here 2 mm, more than 640 counts), however long the start.
     #[test]
     fn presliding_distance_is_at_most_the_travel() {
-        let p = Prepared::new(&stroke(), 4);
+        let p = stroke(1e-6, 1e-3);
         let cap = presliding_cap(&p);
         assert!((cap - p.travel()).abs() < 1e-12 && (cap - 2e-3).abs() < 2e-5);
         let mut m = crate::diagnose::fig5_model();
@@ -575,12 +580,7 @@ mod tests {
             assert!(fitted.model.z_max <= cap, "z_max {}", fitted.model.z_max);
         }
         // A record that hardly moves keeps the base grid's longest start.
-        let mut still = stroke();
-        still
-            .x
-            .iter_mut()
-            .for_each(|x| *x = (*x * 1e-3 / 1e-6).floor() * 1e-6);
-        let q = Prepared::new(&still, 4);
+        let q = stroke(1e-6, 1e-6);
         assert!((presliding_cap(&q) - PRESLIDING_CAP_COUNTS * q.resolution).abs() < 1e-15);
     }
 }

@@ -1172,13 +1172,15 @@ pub fn model_error(rms: f64, floor: f64) -> f64 {
     (rms * rms - floor * floor).max(0.0).sqrt()
 }
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::data::Record;
     use crate::reference::DwellStiction;
     use std::f64::consts::PI;
 
-    fn record(n: usize, dt: f64, x: impl Fn(f64) -> f64) -> Record {
+    /// A record of `n` samples `dt` [s] apart along the position `x(t)` [m],
+    /// under a force of two sinusoids (the lab's unit tests' fixture).
+    pub(crate) fn record(n: usize, dt: f64, x: impl Fn(f64) -> f64) -> Record {
         let t: Vec<f64> = (0..n).map(|i| i as f64 * dt).collect();
         let u = t
             .iter()

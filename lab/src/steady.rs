@@ -186,7 +186,7 @@ struct SteadyProblem<'a> {
 
 impl Residuals for SteadyProblem<'_> {
     fn residuals(&self, th: &[f64]) -> Vec<f64> {
-        let m = fit::decode(self.m0, self.params, th, 1.0);
+        let m = fit::decode(self.m0, self.params, th, fit::Scales::UNIT);
         self.rec
             .points
             .iter()
@@ -207,11 +207,11 @@ pub fn fit_steady(rec: &SteadyRecord, m0: &Model) -> Model {
     };
     let (th, _, _) = fit::levenberg_marquardt(
         &problem,
-        fit::encode(m0, &params, 1.0),
+        fit::encode(m0, &params, fit::Scales::UNIT),
         &FitOptions::default(),
         &mut |_| {},
     );
-    tidy(rec, fit::decode(m0, &params, &th, 1.0))
+    tidy(rec, fit::decode(m0, &params, &th, fit::Scales::UNIT))
 }
 
 /// Without a Stribeck dip (`Fs = Fc` up to 0.1 %) `V` and `δ` have no
