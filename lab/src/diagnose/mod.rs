@@ -37,6 +37,7 @@ use rayon::prelude::*;
 use std::f64::consts::PI;
 
 mod base;
+pub mod breakaway;
 mod candidates;
 mod localise;
 mod report;
@@ -211,6 +212,10 @@ pub struct Report {
     /// Effects replaced by a runner-up in the swap pass: (taken, replaced
     /// by, model error before, after) [N].
     pub swapped: Vec<(Effect, Effect, f64, f64)>,
+    /// Look-alikes compared at the break-aways ([`breakaway::compare`]):
+    /// (named effect, its look-alike, the verdict), whether or not it
+    /// decided.
+    pub at_breakaways: Vec<(Effect, Effect, breakaway::Verdict)>,
     /// Where the residual concentrates before the first step.
     pub regions: Vec<Region>,
     /// RMS per regime before the first step.
@@ -731,6 +736,43 @@ pub fn diagnose(
             }
         }
     }
+    // Look-alikes at the break-aways: where a named effect has a
+    // look-alike the model lacks (`offset`, `asymmetry`), the two are
+    // compared peak against peak after each reversal, where the weights
+    // discount the one place they differ (see [`breakaway`]). A decisive
+    // verdict for the look-alike replaces the named effect.
+    let mut at_breakaways = Vec::new();
+    for step in steps.iter_mut().filter(|s| s.joint.is_none()) {
+        let effect = step.effect;
+        let Some(other) = look_alike(effect).filter(|&o| !fit::has_effect(&model, o)) else {
+            continue;
+        };
+        show(&format!("break-away check: {effect}"));
+        let base = refit_without(&p, &model, effect);
+        let Some(alt) = fit_candidate(&p, &base, &p.residual(&base), other)
+            .filter(|m| sound_fit(&p, &base, m, other))
+        else {
+            continue;
+        };
+        let Some(verdict) = breakaway::compare(&p, &model, &alt) else {
+            continue;
+        };
+        at_breakaways.push((effect, other, verdict));
+        if verdict.decided() == Some(true) {
+            let (new_rms, new_r) = held_rms(&p, &alt);
+            swapped.push((
+                effect,
+                other,
+                residual::model_error(rms, floor),
+                residual::model_error(new_rms, floor),
+            ));
+            step.effect = other;
+            step.model = alt.clone();
+            model = alt;
+            rms = new_rms;
+            r = new_r;
+        }
+    }
     let (simpler, more) = simplify(&p, model.clone(), true, &mut show);
     if !more.is_empty() {
         model = simpler;
@@ -806,6 +848,7 @@ pub fn diagnose(
     Report {
         pruned,
         swapped,
+        at_breakaways,
         n: p.len(),
         half_width: p.kf,
         velocity_half_width: p.k,

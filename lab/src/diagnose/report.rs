@@ -132,6 +132,7 @@ pub fn report_json(rep: &Report) -> String {
         "regimes": rep.regimes.iter().map(|r| json!({"regime": r.regime, "n": r.n, "rms": r.rms})).collect::<Vec<_>>(),
         "signals": rep.signals.iter().map(|(n, f)| json!({"signal": n, "explained": f})).collect::<Vec<_>>(),
         "steps": steps,
+        "at_breakaways": rep.at_breakaways.iter().map(|(a, b, v)| json!({"effect": a.name(), "look_alike": b.name(), "departures": v.departures, "lambda": v.lambda, "se": v.se, "decided": v.decided().map(|alt| if alt { b.name() } else { a.name() })})).collect::<Vec<_>>(),
         "swapped": rep.swapped.iter().map(|(a, b, before, after)| json!({"effect": a.name(), "replaced_by": b.name(), "rms_before": before, "rms_after": after})).collect::<Vec<_>>(),
         "pruned": rep.pruned.iter().map(|(n, without, with)| json!({"effect": n.name(), "rms_without": without, "rms_with": with})).collect::<Vec<_>>(),
         "rejected": candidates_json(rep.last_round.iter().map(Candidate::summary)),
@@ -253,9 +254,27 @@ pub fn report_text(rep: &Report, source: &str) -> String {
         if let Some((other, mine, theirs)) = tied_look_alike(st, rep.floor) {
             let _ = writeln!(
                 s,
-                "        `{other}` fits as well (model error {} vs {} N): this record does not tell them apart (they differ only in the Stribeck dip and at break-away)",
+                "        `{other}` fits as well (model error {} vs {} N): the weighted residual does not tell them apart (they differ only in the Stribeck dip and at break-away)",
                 short(theirs, 4),
                 short(mine, 4)
+            );
+        }
+        let checked = rep
+            .at_breakaways
+            .iter()
+            .find(|(a, b, _)| *a == st.effect || *b == st.effect);
+        if let Some((a, b, v)) = checked {
+            let said = match v.decided() {
+                Some(true) => format!("follow `{b}`"),
+                Some(false) => format!("follow `{a}`"),
+                None => "do not decide".to_string(),
+            };
+            let _ = writeln!(
+                s,
+                "        at the break-aways ({} reversals) the friction peaks {said}: lambda {} +- {} (0 `{a}`, 1 `{b}`)",
+                v.departures,
+                short(v.lambda, 3),
+                short(v.se, 2)
             );
         }
         let others: Vec<String> = st
