@@ -49,8 +49,10 @@ pub struct Departure {
 
 /// The departures of a record: from each turning point of the measured
 /// motion (the direction of `v̂`, counted only where `|v̂|` exceeds the
-/// rest threshold) until `|v̂|` reaches `speed` [m/s] or the motion turns
-/// again; only windows that reach `speed` count.
+/// rest threshold), and from each rest of at least
+/// [`super::MIN_DWELL_REST`] after which the motion goes on the same way,
+/// until `|v̂|` reaches `speed` [m/s] or the motion turns again; only
+/// windows that reach `speed` count.
 pub fn departures(p: &Prepared, speed: f64) -> Vec<Departure> {
     let valid = p.valid();
     let mut out = Vec::new();
@@ -59,9 +61,17 @@ pub fn departures(p: &Prepared, speed: f64) -> Vec<Departure> {
     // point, where the presliding branch starts.
     let mut turn = valid.start;
     let mut open: Option<Departure> = None;
+    let min_rest = (super::MIN_DWELL_REST / p.dt).ceil() as usize;
     for i in valid.clone() {
         let v = p.v[i];
         let moving = !p.still[i] && v.abs() > p.v_rest;
+        if moving && v.signum() == direction && i - turn > min_rest {
+            open = Some(Departure {
+                start: turn + 1,
+                end: i,
+                direction,
+            });
+        }
         if moving && v.signum() != direction {
             // A window that turns before reaching `speed` is dropped (a
             // dither, or a reversal that never broke away).

@@ -264,14 +264,20 @@ pub fn report_text(rep: &Report, source: &str) -> String {
             .iter()
             .find(|(a, b, _)| *a == st.effect || *b == st.effect);
         if let Some((a, b, v)) = checked {
+            let swapped = rep.swapped.iter().any(|(x, y, _, _)| (x, y) == (a, b));
             let said = match v.decided() {
+                Some(true) if !swapped => {
+                    format!(
+                        "follow `{b}`, but sample by sample `{a}` fits clearly better and is kept"
+                    )
+                }
                 Some(true) => format!("follow `{b}`"),
                 Some(false) => format!("follow `{a}`"),
                 None => "do not decide".to_string(),
             };
             let _ = writeln!(
                 s,
-                "        at the break-aways ({} reversals) the friction peaks {said}: lambda {} +- {} (0 `{a}`, 1 `{b}`)",
+                "        at the break-aways ({} departures after reversals and rests) the friction peaks {said}: lambda {} +- {} (0 `{a}`, 1 `{b}`)",
                 v.departures,
                 short(v.lambda, 3),
                 short(v.se, 2)
@@ -313,9 +319,18 @@ pub fn report_text(rep: &Report, source: &str) -> String {
         );
     }
     for (a, b, before, after) in &rep.swapped {
+        let at_breakaways = rep
+            .at_breakaways
+            .iter()
+            .any(|(x, y, v)| (x, y) == (a, b) && v.decided() == Some(true));
+        let why = if at_breakaways {
+            "a tie sample by sample, decided at the break-aways"
+        } else {
+            "lower held-out BIC"
+        };
         let _ = writeln!(
             s,
-            "swap check: `{a}` replaced by `{b}` (model error {} N -> {} N, lower held-out BIC)",
+            "swap check: `{a}` replaced by `{b}` (model error {} N -> {} N, {why})",
             short(*before, 4),
             short(*after, 4)
         );
