@@ -121,6 +121,7 @@ pub fn report_json(rep: &Report) -> String {
         "rms_raw_before": rep.raw_before,
         "rms_raw_after": rep.raw_after,
         "floor": rep.floor,
+        "floor_estimate": rep.floor_estimate,
         "judged": rep.judged,
         "moving_held_out": rep.moving_held_out,
         "noise_std": rep.sigma0,
@@ -177,6 +178,13 @@ pub fn report_text(rep: &Report, source: &str) -> String {
         rep.still.0,
         rep.still.1
     );
+    if let Some(est) = rep.floor_estimate {
+        let _ = writeln!(
+            s,
+            "        (estimated from the start model's residual: {} N; a first-round candidate's held-out rms came out below that, so the floor is taken as that rms)",
+            short(est, 3)
+        );
+    }
     for (part, why) in &rep.dropped {
         let _ = writeln!(s, "not identifiable here, dropped: `{part}` ({why})");
     }
