@@ -241,6 +241,21 @@ pub struct Report {
 /// What the residual is, for reports.
 pub const METRIC: &str = "model error [N]: sqrt(rms^2 - floor^2), rms the held-out weighted RMS of the force residual along the measured motion, r = W*(u - F(t, x, v_hat)) - m*a_hat (Savitzky-Golay v_hat, a_hat; W the matching force kernel), floor the part that force noise and encoder resolution explain; still samples (position within one count over the window) are the measured force, re-anchor the presliding memory and carry no weight; moving samples slower than one count per sample are weighted with the variance of the whole hysteresis range (2*max(Fs, Fc), a reversal smaller than a count may hide between samples), the floor counts that range only as far as the start model's residual shows it there (its 99th-percentile difference 2K+1 samples apart); weights (speed/direction class x noise/resolution variance) fixed from the start model; blocks 2, 5, 8 of 10 held out (consecutive blocks with equal numbers of moving samples)";
 
+/// Replaces `step`'s effect by `to`, with `m` the model after it, and
+/// records the swap with the model errors before and after [N] (the swap
+/// pass and the break-away channel alike).
+fn swap_step(
+    step: &mut Step,
+    to: Effect,
+    m: &Model,
+    [before, after]: [f64; 2],
+    swapped: &mut Vec<(Effect, Effect, f64, f64)>,
+) {
+    swapped.push((step.effect, to, before, after));
+    step.effect = to;
+    step.model = m.clone();
+}
+
 fn held_rms(p: &Prepared, m: &Model) -> (f64, Vec<f64>) {
     let r = p.residual(m);
     (p.rms(&r, Some(true)), r)
@@ -748,14 +763,8 @@ pub fn diagnose(
             }
             if let Some((_, alt, m)) = best {
                 let (new_rms, new_r) = held_rms(&p, &m);
-                swapped.push((
-                    effect,
-                    alt,
-                    residual::model_error(rms, floor),
-                    residual::model_error(new_rms, floor),
-                ));
-                step.effect = alt;
-                step.model = m.clone();
+                let errors = [rms, new_rms].map(|x| residual::model_error(x, floor));
+                swap_step(step, alt, &m, errors, &mut swapped);
                 model = m;
                 rms = new_rms;
                 r = new_r;
@@ -793,14 +802,8 @@ pub fn diagnose(
         let tie = (residual::model_error(new_rms, floor) - residual::model_error(rms, floor)).abs()
             <= TIE_SHARE * step.rms_before;
         if tie && verdict.decided() == Some(true) {
-            swapped.push((
-                effect,
-                other,
-                residual::model_error(rms, floor),
-                residual::model_error(new_rms, floor),
-            ));
-            step.effect = other;
-            step.model = alt.clone();
+            let errors = [rms, new_rms].map(|x| residual::model_error(x, floor));
+            swap_step(step, other, &alt, errors, &mut swapped);
             model = alt;
             rms = new_rms;
             r = new_r;
