@@ -11,14 +11,17 @@
 //! sample, it is reached; compared peak against peak, the measurement says
 //! which of the two models is right.
 //!
-//! For each departure `k` (a reversal of the measured motion) the peak of
-//! the measured friction `d·(W*ū − m·â)` in the window where the axis
-//! breaks away is `y_k`, the peaks of the two models' friction (`W*F`,
-//! the same kernel, the same window) are `c_k` (the current model) and
-//! `a_k` (its alternative). The regression `y_k − c_k = b + λ·(a_k − c_k)`
-//! gives `λ ≈ 0` where the current model is right and `λ ≈ 1` where the
-//! alternative is; `b` takes what both miss alike (the noise on a peak
-//! raises every measured one).
+//! For each departure `k` (a reversal of the measured motion, or its
+//! start after a rest) the peak of the measured friction `d·(W*ū − m·â)`
+//! in the window where the axis breaks away is `y_k`, the peaks of the two
+//! models' friction (`W*F`, the same kernel, the same window) are `c_k`
+//! (the current model) and `a_k` (its alternative). With means over the
+//! departures of each direction,
+//! `λ = (ȳ⁺ − c̄⁺ − ȳ⁻ + c̄⁻)/(ā⁺ − c̄⁺ − ā⁻ + c̄⁻)`: `λ ≈ 0` where the
+//! current model is right, `λ ≈ 1` where the alternative is. The
+//! difference between the directions is what tells `offset` from
+//! `asymmetry`; what both directions share (the noise that raises every
+//! measured peak, a drift of both levels) cancels in it.
 
 use super::Model;
 use crate::residual::Prepared;
@@ -35,15 +38,16 @@ pub const MIN_DEPARTURES: usize = 2;
 /// decide ([`Verdict::decided`]).
 pub const DECISIVE_SE: f64 = 2.0;
 
-/// One break-away window: samples `start..end` after a reversal towards
-/// `direction` (±1).
+/// One break-away window: samples `start..end` after a reversal or a rest,
+/// towards `direction` (±1).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Departure {
-    /// First sample of the window (the last turning point).
+    /// First sample of the window (the turning point, or the rest's
+    /// first sample).
     pub start: usize,
     /// One past the last sample.
     pub end: usize,
-    /// Direction of the motion after the reversal (±1).
+    /// Direction of the motion in the window (±1).
     pub direction: f64,
 }
 
