@@ -122,27 +122,30 @@ impl Verdict {
     }
 }
 
-/// Compares `current` with `alternative` at the record's departures
-/// (window to [`WINDOW_SPEED`] times the current model's `V`). `None`
-/// where fewer than [`MIN_DEPARTURES`] in either direction, or where the
-/// two models' peaks do not differ.
-pub fn compare(p: &Prepared, current: &Model, alternative: &Model) -> Option<Verdict> {
+/// The departures on which `current` can be judged (windows to
+/// [`WINDOW_SPEED`] times its `V`), or `None` where fewer than
+/// [`MIN_DEPARTURES`] go either way: checked before the look-alike is
+/// fitted, which is the costly part.
+pub fn judgeable(p: &Prepared, current: &Model) -> Option<Vec<Departure>> {
     let deps = departures(p, WINDOW_SPEED * current.v_stribeck);
     let per_direction = |s: f64| deps.iter().filter(|d| d.direction == s).count();
-    if per_direction(1.0) < MIN_DEPARTURES || per_direction(-1.0) < MIN_DEPARTURES {
-        return None;
+    (per_direction(1.0) >= MIN_DEPARTURES && per_direction(-1.0) >= MIN_DEPARTURES).then_some(deps)
+}
+
+/// Compares `current` with `alternative` at the departures `deps` (from
+/// [`judgeable`]); `None` where the two models' peaks do not differ
+/// between the directions.
+pub fn compare(
+    p: &Prepared,
+    deps: &[Departure],
+    current: &Model,
+    alternative: &Model,
+) -> Option<Verdict> {
+    // The measured friction as the residual forms it: `W*ū − m·â`.
+    let mut measured = p.filter_all(&p.u_mid);
+    for i in p.valid() {
+        measured[i] -= current.mass * p.a[i];
     }
-    let valid = p.valid();
-    let u = p.filter_all(&p.u_mid);
-    let measured: Vec<f64> = (0..p.len())
-        .map(|i| {
-            if valid.contains(&i) {
-                u[i] - current.mass * p.a[i]
-            } else {
-                0.0
-            }
-        })
-        .collect();
     let cur = p.filter_all(&p.friction(current));
     let alt = p.filter_all(&p.friction(alternative));
     let peak = |s: &[f64], d: &Departure| {
@@ -268,10 +271,11 @@ mod tests {
             .collect();
         let rec = crate::data::Record { u, ..rec0 };
         let p = prepared(&rec);
-        let v = compare(&p, &model(false), &truth).expect("a verdict");
+        let deps = judgeable(&p, &model(false)).expect("departures both ways");
+        let v = compare(&p, &deps, &model(false), &truth).expect("a verdict");
         assert!((v.lambda - 1.0).abs() < 0.1, "{v:?}");
         assert_eq!(v.decided(), Some(true));
-        let v = compare(&p, &truth, &model(false)).expect("a verdict");
+        let v = compare(&p, &deps, &truth, &model(false)).expect("a verdict");
         assert!(v.lambda.abs() < 0.1, "{v:?}");
         assert_eq!(v.decided(), Some(false));
     }

@@ -787,6 +787,9 @@ pub fn diagnose(
         let Some(other) = look_alike(effect).filter(|&o| !fit::has_effect(&model, o)) else {
             continue;
         };
+        let Some(deps) = breakaway::judgeable(&p, &model) else {
+            continue;
+        };
         show(&format!("break-away check: {effect}"));
         let base = refit_without(&p, &model, effect);
         let Some(alt) = fit_candidate(&p, &base, &p.residual(&base), other)
@@ -794,7 +797,7 @@ pub fn diagnose(
         else {
             continue;
         };
-        let Some(verdict) = breakaway::compare(&p, &model, &alt) else {
+        let Some(verdict) = breakaway::compare(&p, &deps, &model, &alt) else {
             continue;
         };
         at_breakaways.push((effect, other, verdict));
