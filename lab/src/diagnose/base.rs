@@ -14,8 +14,10 @@ pub(crate) fn fig5_model() -> Model {
 
 /// The base model of MODEL.md §2–§3 (Coulomb + Stribeck + presliding,
 /// σ = 0) with its parameters identified from the data: mass and Fc by
-/// linear least squares on the faster half of the moving samples, then a
-/// grid over V and z_max, then Levenberg–Marquardt.
+/// linear least squares on the faster half of the samples above the rest
+/// speed (the still samples' `1/T` velocities among them, see
+/// `speeds_above_rest`), then a grid over V and z_max, then
+/// Levenberg–Marquardt.
 pub fn initial_base(p: &Prepared, progress: &mut dyn FnMut(&str)) -> Model {
     let mut speeds = speeds_above_rest(p);
     let v_med = quantile(&mut speeds.clone(), 0.5);
