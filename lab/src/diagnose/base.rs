@@ -19,9 +19,7 @@ pub(crate) fn fig5_model() -> Model {
 /// `speeds_above_rest`), then a grid over V and z_max, then
 /// Levenberg–Marquardt.
 pub fn initial_base(p: &Prepared, progress: &mut dyn FnMut(&str)) -> Model {
-    let mut speeds = speeds_above_rest(p);
-    let v_med = quantile(&mut speeds.clone(), 0.5);
-    let v_lo = quantile(&mut speeds, 0.2);
+    let v_med = quantile(&mut speeds_above_rest(p), 0.5);
     let fast: Vec<usize> = p
         .valid()
         .filter(|&i| !p.held_out[i] && p.v[i].abs() >= v_med)
@@ -34,11 +32,7 @@ pub fn initial_base(p: &Prepared, progress: &mut dyn FnMut(&str)) -> Model {
     if !(mass.is_finite() && mass > 0.0) {
         mass = 1e-3 * fc / (v_med.max(1e-12) / 1.0);
     }
-    let v_lo = if v_lo.is_finite() && v_lo > 0.0 {
-        v_lo
-    } else {
-        1e-3
-    };
+    let v_lo = low_speed(p).unwrap_or(1e-3);
     let mut best: Option<(f64, Model)> = None;
     let mut k = 0;
     for vf in [0.3, 1.0, 3.0] {

@@ -612,11 +612,10 @@ pub fn diagnose(
         // `asymmetry`). Measuring the spread again on the candidate's
         // residual instead left the floor too high on both records it was
         // meant for (2800030, 2800126).
-        if let Some(low) = cands.iter().map(|c| c.rms).min_by(f64::total_cmp) {
-            if round == 0 && low < floor {
-                floor_estimate = Some(floor);
-                floor = low;
-            }
+        let lowest = cands.iter().map(|c| c.rms).min_by(f64::total_cmp);
+        if let Some(low) = lowest.filter(|&low| round == 0 && low < floor) {
+            floor_estimate = Some(floor);
+            floor = low;
         }
         prefer_nested(&mut cands, floor);
         let accept = cands
