@@ -235,6 +235,16 @@ pub const BLOCKS: usize = 10;
 /// Held-out blocks (0-based).
 pub const HELD_OUT: [usize; 3] = [2, 5, 8];
 
+/// Least rms scatter [counts] of the count increments around their local
+/// trend that marks a burst ([`Prepared::bursts`]): quantisation alone
+/// gives about 0.4 (`1/√6`, two uniform rounding errors per increment),
+/// below 0.8 on the smooth motion of the unit test.
+pub const BURST_COUNTS: f64 = 1.5;
+
+/// Least scatter of the count increments, as a share of their local mean,
+/// that marks a burst ([`Prepared::bursts`]).
+pub const BURST_SHARE: f64 = 0.5;
+
 /// A record prepared for fitting: derivatives, kernel, weights, split.
 #[derive(Clone, Debug)]
 pub struct Prepared {
@@ -280,6 +290,21 @@ pub struct Prepared {
     /// Still by the window rule alone (position within one count over
     /// `i−k … i+k`), before [`Prepared::mark_stops`] adds the stops.
     window_still: Vec<bool>,
+    /// Samples within the force kernel (`±kf`) of a **burst**: a sample
+    /// whose count increments over `i−k … i+k`, less their quadratic trend,
+    /// scatter by at least [`BURST_COUNTS`] counts (rms) and by at least
+    /// [`BURST_SHARE`] of their mean. The axis then moves in bursts faster
+    /// than the sampling (it sticks and slips within a period, as the
+    /// self-excited presliding creep of MODEL.md §8 at large `Π` does), so
+    /// the velocity at the sample instants is not the one the friction saw,
+    /// and the kernel spreads that error over its width. With
+    /// [`Prepared::unweigh_bursts`] these samples carry no weight; the
+    /// model is still walked through them (not re-anchored: their force is
+    /// not the friction).
+    pub bursts: Vec<bool>,
+    /// Whether the bursts carry no weight ([`Prepared::unweigh_bursts`]);
+    /// by default they are weighed like any moving sample.
+    pub bursts_unweighted: bool,
     /// Standard deviation of the noise on the logged force [N]
     /// ([`force_noise`] of the record's `u`).
     pub force_noise: f64,
@@ -478,7 +503,10 @@ impl Prepared {
                 u_still[i] = span.iter().sum::<f64>() / span.len() as f64;
             }
         }
+        let bursts = Self::bursts_of(xs, q, k, kf);
         let mut p = Prepared {
+            bursts,
+            bursts_unweighted: false,
             t: rec.t.clone(),
             x: xs.clone(),
             u_mid,
@@ -504,6 +532,50 @@ impl Prepared {
         p.set_split();
         p.set_weights();
         p
+    }
+
+    /// [`Prepared::bursts`] of positions `xs` with resolution `q` [m]:
+    /// the increment window is `±k`, the spread `±kf`. The trend taken out
+    /// of the increments is quadratic (a smooth jerk, as at a break-away,
+    /// is not a burst).
+    fn bursts_of(xs: &[f64], q: f64, k: usize, kf: usize) -> Vec<bool> {
+        let n = xs.len();
+        let mut out = vec![false; n];
+        if q <= 0.0 || n < 2 * k + 2 {
+            return out;
+        }
+        // Count increments into each sample.
+        let inc: Vec<f64> = (0..n)
+            .map(|i| if i == 0 { 0.0 } else { (xs[i] - xs[i - 1]) / q })
+            .collect();
+        // Moments of j = −k … k for the least-squares quadratic.
+        let js: Vec<f64> = (0..=2 * k).map(|j| j as f64 - k as f64).collect();
+        let s0 = js.len() as f64;
+        let s2: f64 = js.iter().map(|j| j * j).sum();
+        let s4: f64 = js.iter().map(|j| j.powi(4)).sum();
+        let det = s0 * s4 - s2 * s2;
+        let mut burst = vec![false; n];
+        for i in k + 1..n - k {
+            let span = &inc[i - k..=i + k];
+            let (mut y0, mut y1, mut y2, mut yy) = (0.0, 0.0, 0.0, 0.0);
+            for (y, j) in span.iter().zip(&js) {
+                y0 += y;
+                y1 += y * j;
+                y2 += y * j * j;
+                yy += y * y;
+            }
+            let c1 = y1 / s2;
+            let c0 = (s4 * y0 - s2 * y2) / det;
+            let c2 = (s0 * y2 - s2 * y0) / det;
+            let rms = ((yy - c0 * y0 - c1 * y1 - c2 * y2).max(0.0) / s0).sqrt();
+            burst[i] = rms >= BURST_COUNTS && rms >= BURST_SHARE * (y0 / s0).abs();
+        }
+        for i in (0..n).filter(|&i| burst[i]) {
+            for o in &mut out[i.saturating_sub(kf)..=(i + kf).min(n - 1)] {
+                *o = true;
+            }
+        }
+        out
     }
 
     /// The positions with single-sample encoder glitches removed: a sample
@@ -616,21 +688,36 @@ impl Prepared {
         1 + 2 * b + usize::from(self.v[i] < 0.0)
     }
 
+    /// Takes the weight off the [`Prepared::bursts`] (class weights now;
+    /// the error weights, set later, keep it off).
+    pub fn unweigh_bursts(&mut self) {
+        self.bursts_unweighted = true;
+        self.set_weights();
+    }
+
+    /// Moving samples (valid, not still) within the kernel of a burst.
+    pub fn burst_count(&self) -> usize {
+        self.valid()
+            .filter(|&i| self.bursts[i] && !self.still[i])
+            .count()
+    }
+
     fn set_weights(&mut self) {
+        let unscored = |p: &Self, i: usize| p.still[i] || (p.bursts_unweighted && p.bursts[i]);
         let mut count = [0usize; 64];
-        for i in self.valid().filter(|&i| !self.still[i]) {
+        for i in self.valid().filter(|&i| !unscored(self, i)) {
             count[self.class(i)] += 1;
         }
         let mut total = 0.0;
         for i in self.valid() {
-            self.weight[i] = if self.still[i] {
-                0.0
-            } else {
+            self.weight[i] = if !unscored(self, i) {
                 1.0 / (count[self.class(i)] as f64).sqrt()
+            } else {
+                0.0
             };
             total += self.weight[i];
         }
-        let nv = self.valid().filter(|&i| !self.still[i]).count() as f64;
+        let nv = self.valid().filter(|&i| !unscored(self, i)).count() as f64;
         if total > 0.0 {
             for w in &mut self.weight {
                 *w *= nv / total;
@@ -1266,6 +1353,57 @@ pub(crate) mod tests {
             .map(|i| ((i * 7919) % 101) as f64 * 0.371 - 18.3)
             .collect();
         (p, s)
+    }
+
+    /// Bursts: a quantised smooth motion (a start at 1 m/s², one count per
+    /// sample², to a 20 mm/s cruise, then a stop to a 0.3 count per sample
+    /// creep) has none, however its counts fall; the count pattern of an
+    /// axis that sticks and slips within each period (increments of 1, 20,
+    /// 3, 13, … counts, about 10 per sample, as on development record
+    /// 3000077 of the independent generator) is one, and the flag spreads
+    /// over the force kernel.
+    #[test]
+    fn bursts_mark_stick_slip_within_a_period_only() {
+        let q = 1e-6;
+        let (k, kf) = (4, 16);
+        let n = 400;
+        let speed = |t: f64| -> f64 {
+            if t < 0.1 {
+                0.0
+            } else if t < 0.12 {
+                t - 0.1
+            } else if t < 0.25 {
+                0.02
+            } else if t < 0.2697 {
+                0.02 - (t - 0.25)
+            } else {
+                3e-4
+            }
+        };
+        let mut x = 0.37 * q;
+        let smooth: Vec<f64> = (0..n)
+            .map(|i| {
+                // Midpoint rule, 10 sub-steps per sample.
+                for s in 0..10 {
+                    x += speed((i as f64 + (s as f64 + 0.5) / 10.0) * 1e-3) * 1e-4;
+                }
+                (x / q).floor() * q
+            })
+            .collect();
+        assert!(Prepared::bursts_of(&smooth, q, k, kf).iter().all(|&b| !b));
+        let pattern = [1.0, 20.0, 3.0, 13.0, 10.0, 5.0, 18.0, 1.0, 20.0, 2.0];
+        let mut creep = vec![0.0; n];
+        for i in 1..n {
+            let step = if (150..250).contains(&i) {
+                pattern[i % pattern.len()]
+            } else {
+                0.0
+            };
+            creep[i] = creep[i - 1] + step * q;
+        }
+        let b = Prepared::bursts_of(&creep, q, k, kf);
+        assert!((150 + k..250 - k).all(|i| b[i]), "creep not marked");
+        assert!(b[150 - kf] && !b[150 - kf - k - 2] && !b[250 + kf + k + 1]);
     }
 
     /// `filter_all` is `filter_at` at every valid sample, to the last bit.

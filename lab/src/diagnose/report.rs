@@ -127,6 +127,16 @@ pub fn report_json(rep: &Report) -> String {
         "noise_std": rep.sigma0,
         "floor_explains": if rep.raw_after > 0.0 { (rep.floor / rep.raw_after).powi(2).min(1.0) } else { 1.0 },
         "still_samples": rep.still.0,
+        "bursts": {
+            "samples": rep.bursts.samples,
+            "moving_samples": rep.moving,
+            "unweighted": rep.bursts.unweighted,
+            "first_pass": rep.bursts.first_pass.as_ref().map(|f| json!({
+                "effects_added": f.effects.iter().map(|e| e.name()).collect::<Vec<_>>(),
+                "rms_before": f.rms_before,
+                "rms_after": f.rms_after,
+            })),
+        },
         "valid_samples": rep.still.1,
         "dropped": rep.dropped.iter().map(|(n, why)| json!({"part": n.name(), "reason": why})).collect::<Vec<_>>(),
         "regions": rep.regions.iter().map(|r| json!({"regime": r.regime, "t_start": r.t_start, "t_end": r.t_end, "rms": r.rms})).collect::<Vec<_>>(),
@@ -178,6 +188,25 @@ pub fn report_text(rep: &Report, source: &str) -> String {
         rep.still.0,
         rep.still.1
     );
+    if let Some(f) = &rep.bursts.first_pass {
+        let named: Vec<&str> = f.effects.iter().map(|e| e.name()).collect();
+        let _ = writeln!(
+            s,
+            "        {} of {} moving samples lie within the kernel of a burst (the axis sticks and slips faster than the sampling): not scored here, as weighed they left the gap at {} N of {} N (named: [{}])",
+            rep.bursts.samples,
+            rep.moving,
+            short(f.rms_after, 3),
+            short(f.rms_before, 3),
+            named.join(", ")
+        );
+    } else if rep.bursts.samples > 0 {
+        let _ = writeln!(
+            s,
+            "        {} of {} moving samples lie within the kernel of a burst (the axis sticks and slips faster than the sampling); weighed as any moving sample",
+            rep.bursts.samples,
+            rep.moving
+        );
+    }
     if let Some(est) = rep.floor_estimate {
         let _ = writeln!(
             s,
