@@ -798,11 +798,18 @@ pub fn smoke() -> Result<(), String> {
 /// Records of the development draws that `cargo xtask test` also runs,
 /// each named exactly with the gap halved since the change it guards:
 /// `(seed, kind, what it guards)`.
-pub const SMOKE_CASES: &[(u64, &str, &str)] = &[(
-    1_900_060,
-    "mixed",
-    "two effects that hide each other: the pair step of version 7.3",
-)];
+pub const SMOKE_CASES: &[(u64, &str, &str)] = &[
+    (
+        1_900_060,
+        "mixed",
+        "two effects that hide each other: the pair step of version 7.3",
+    ),
+    (
+        3_000_060,
+        "mixed",
+        "stick-slip faster than the sampling: the second pass without the bursts of version 8.1",
+    ),
+];
 
 #[cfg(test)]
 mod tests {
