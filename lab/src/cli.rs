@@ -389,6 +389,10 @@ pub struct ValidateArgs {
     /// JSON on stdout.
     #[arg(long)]
     pub json: bool,
+    /// Give no weight to the samples within the kernel of a burst (stick-slip
+    /// faster than the sampling), as the second pass of `diagnose` does.
+    #[arg(long)]
+    pub unweigh_bursts: bool,
     /// `--window K`.
     #[command(flatten)]
     pub window: WindowArg,

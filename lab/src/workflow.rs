@@ -181,6 +181,9 @@ pub fn validate(args: ValidateArgs, out: &mut dyn Write) -> Result<(), Error> {
     let (rec, window) = load_data(&args.data, args.window.half_width)?;
     let m = load_model(&args.model)?;
     let mut p = Prepared::with_window(&rec, window);
+    if args.unweigh_bursts {
+        p.unweigh_bursts();
+    }
     // The weights come from the data's base model, not from the
     // model under test: two models validated on one record are
     // compared with the same weights.
@@ -199,6 +202,7 @@ pub fn validate(args: ValidateArgs, out: &mut dyn Write) -> Result<(), Error> {
             "rms": all,
             "floor": floor,
             "model_error": gap,
+            "bursts": {"samples": p.burst_count(), "unweighted": p.bursts_unweighted},
             "regimes": stats.iter().map(|s| serde_json::json!({"regime": s.regime, "n": s.n, "rms": s.rms})).collect::<Vec<_>>(),
         });
         format!("{}\n", serde_json::to_string_pretty(&v).unwrap_or_default())
@@ -211,6 +215,17 @@ pub fn validate(args: ValidateArgs, out: &mut dyn Write) -> Result<(), Error> {
             crate::format::short(floor, 4),
             crate::format::short(gap, 4)
         );
+        let bursts = p.burst_count();
+        if bursts > 0 {
+            let how = if p.bursts_unweighted {
+                "not weighed (--unweigh-bursts)"
+            } else {
+                "weighed (--unweigh-bursts takes them out)"
+            };
+            s.push_str(&format!(
+                "{bursts} moving samples lie within the kernel of a burst: {how}\n"
+            ));
+        }
         let rows: Vec<Vec<String>> = stats
             .iter()
             .map(|s| {

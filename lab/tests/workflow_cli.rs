@@ -84,6 +84,22 @@ fn synth_fit_validate_diagnose() {
     let v: serde_json::Value = serde_json::from_str(&j).unwrap();
     assert!(v["rms"].as_f64().unwrap() < 0.05);
     assert!(!v["regimes"].as_array().unwrap().is_empty());
+    assert_eq!(v["bursts"]["unweighted"], false);
+    // --unweigh-bursts: no weight on the bursts; on a record with none (a
+    // smooth in-model record), the same figure.
+    let j = ok(&[
+        "validate",
+        d,
+        "--model",
+        fitted.to_str().unwrap(),
+        "--json",
+        "--unweigh-bursts",
+    ]);
+    let u: serde_json::Value = serde_json::from_str(&j).unwrap();
+    assert_eq!(u["bursts"]["unweighted"], true);
+    assert_eq!(v["bursts"]["samples"], 0);
+    assert_eq!(u["bursts"]["samples"], 0);
+    assert_eq!(u["rms"], v["rms"]);
 
     // diagnose: names the offset, JSON keys of issue 6, SVG, model file.
     let (rep, svg, mo) = (tmp("rep.json"), tmp("plot.svg"), tmp("diag.toml"));
