@@ -245,6 +245,17 @@ pub const BURST_COUNTS: f64 = 1.5;
 /// that marks a burst ([`Prepared::bursts`]).
 pub const BURST_SHARE: f64 = 0.5;
 
+/// `n` flags, set within `±h` samples of each of the `marked` samples.
+fn spread(n: usize, marked: impl Iterator<Item = usize>, h: usize) -> Vec<bool> {
+    let mut out = vec![false; n];
+    for i in marked {
+        for o in &mut out[i.saturating_sub(h)..=(i + h).min(n - 1)] {
+            *o = true;
+        }
+    }
+    out
+}
+
 /// A record prepared for fitting: derivatives, kernel, weights, split.
 #[derive(Clone, Debug)]
 pub struct Prepared {
@@ -304,7 +315,7 @@ pub struct Prepared {
     pub bursts: Vec<bool>,
     /// Whether the bursts carry no weight ([`Prepared::unweigh_bursts`]);
     /// by default they are weighed like any moving sample.
-    pub bursts_unweighted: bool,
+    bursts_unweighted: bool,
     /// Standard deviation of the noise on the logged force [N]
     /// ([`force_noise`] of the record's `u`).
     pub force_noise: f64,
@@ -540,9 +551,8 @@ impl Prepared {
     /// is not a burst).
     fn bursts_of(xs: &[f64], q: f64, k: usize, kf: usize) -> Vec<bool> {
         let n = xs.len();
-        let mut out = vec![false; n];
         if q <= 0.0 || n < 2 * k + 2 {
-            return out;
+            return vec![false; n];
         }
         // Count increments into each sample.
         let inc: Vec<f64> = (0..n)
@@ -570,12 +580,7 @@ impl Prepared {
             let rms = ((yy - c0 * y0 - c1 * y1 - c2 * y2).max(0.0) / s0).sqrt();
             burst[i] = rms >= BURST_COUNTS && rms >= BURST_SHARE * (y0 / s0).abs();
         }
-        for i in (0..n).filter(|&i| burst[i]) {
-            for o in &mut out[i.saturating_sub(kf)..=(i + kf).min(n - 1)] {
-                *o = true;
-            }
-        }
-        out
+        spread(n, (0..n).filter(|&i| burst[i]), kf)
     }
 
     /// The positions with single-sample encoder glitches removed: a sample
@@ -695,6 +700,11 @@ impl Prepared {
         self.set_weights();
     }
 
+    /// Whether the bursts carry no weight ([`Prepared::unweigh_bursts`]).
+    pub fn bursts_unweighted(&self) -> bool {
+        self.bursts_unweighted
+    }
+
     /// Moving samples (valid, not still) within the kernel of a burst.
     pub fn burst_count(&self) -> usize {
         self.valid()
@@ -783,16 +793,12 @@ impl Prepared {
         let c2_norm = self.c2_norm();
         let var_acc = m.mass * m.mass * q2 * (c2_norm / (self.dt * self.dt)).powi(2);
         let n = self.len();
-        let mut curved = vec![false; n];
-        for i in 1..n.saturating_sub(1) {
-            if self.x[i + 1] - 2.0 * self.x[i] + self.x[i - 1] != 0.0 {
-                let lo = i.saturating_sub(self.kf + 1);
-                let hi = (i + self.kf + 1).min(n - 1);
-                for c in &mut curved[lo..=hi] {
-                    *c = true;
-                }
-            }
-        }
+        let curved = spread(
+            n,
+            (1..n.saturating_sub(1))
+                .filter(|&i| self.x[i + 1] - 2.0 * self.x[i] + self.x[i - 1] != 0.0),
+            self.kf + 1,
+        );
         let fast = self.median_moving_speed().unwrap_or(0.0);
         let pairs = |straight: bool| -> Vec<f64> {
             let mut d: Vec<f64> = self

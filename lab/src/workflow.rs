@@ -202,7 +202,7 @@ pub fn validate(args: ValidateArgs, out: &mut dyn Write) -> Result<(), Error> {
             "rms": all,
             "floor": floor,
             "model_error": gap,
-            "bursts": {"samples": p.burst_count(), "unweighted": p.bursts_unweighted},
+            "bursts": {"samples": p.burst_count(), "unweighted": p.bursts_unweighted()},
             "regimes": stats.iter().map(|s| serde_json::json!({"regime": s.regime, "n": s.n, "rms": s.rms})).collect::<Vec<_>>(),
         });
         format!("{}\n", serde_json::to_string_pretty(&v).unwrap_or_default())
@@ -217,7 +217,7 @@ pub fn validate(args: ValidateArgs, out: &mut dyn Write) -> Result<(), Error> {
         );
         let bursts = p.burst_count();
         if bursts > 0 {
-            let how = if p.bursts_unweighted {
+            let how = if p.bursts_unweighted() {
                 "not weighed (--unweigh-bursts)"
             } else {
                 "weighed (--unweigh-bursts takes them out)"

@@ -986,7 +986,7 @@ fn run(
         still: (still, p.valid().len()),
         bursts: Bursts {
             samples: p.burst_count(),
-            unweighted: p.bursts_unweighted,
+            unweighted: p.bursts_unweighted(),
             first_pass: None,
         },
         moving: p.valid().filter(|&i| !p.still[i]).count(),
