@@ -298,6 +298,10 @@ pub struct Prepared {
     /// Measured force at still samples [N]: mean of `ū` over the sample and
     /// the two before it (0 elsewhere).
     pub u_still: Vec<f64>,
+    /// The speed [m/s] that the `dwell_stiction` clock compares with
+    /// `v_rest` ([`Prepared::count_period_speed`]; `|v|` of a record that
+    /// gives its velocity).
+    rest_speed: Vec<f64>,
     /// Still by the window rule alone (position within one count over
     /// `i−k … i+k`), before [`Prepared::mark_stops`] adds the stops.
     window_still: Vec<bool>,
@@ -492,8 +496,10 @@ impl Prepared {
             }
         }
         let _ = n_rest;
+        let mut rest_speed = Self::count_period_speed(xs, &rec.t, q);
         if let Some(mv) = &rec.v {
             v.clone_from(mv);
+            rest_speed = mv.iter().map(|v| v.abs()).collect();
         }
         let resolution = q;
         let v_rest = REST_COUNT_RATE * q / dt;
@@ -534,6 +540,7 @@ impl Prepared {
             window_still: still.clone(),
             still,
             u_still,
+            rest_speed,
             var: vec![0.0; n],
             floor_var: vec![0.0; n],
             sigma0: 0.0,
@@ -982,17 +989,88 @@ impl Prepared {
 
     /// The velocity [m/s] the model runs at on sample `i`: `v̂`, and 0 on
     /// the still samples. MODEL.md §5: in measured data a rest is where the
-    /// position stays within the encoder's resolution, so the rest that the
-    /// `dwell_stiction` clock counts (and the lagged velocity at rest) must
-    /// not restart on the ±1-count dither of a held axis, whose `v̂` of about
-    /// `q/(k·h)` exceeds a small `v_rest`. (At still samples the friction is
-    /// the measured force in any case.)
+    /// position stays within the encoder's resolution, so the lagged
+    /// velocity at rest must not follow the ±1-count dither of a held axis,
+    /// whose `v̂` is about `q/(k·h)`. (At still samples the friction is the
+    /// measured force in any case. The `dwell_stiction` clock takes its
+    /// speed from [`Prepared::rest_speed`] instead.)
     pub fn model_velocity(&self, i: usize) -> f64 {
         if self.still[i] {
             0.0
         } else {
             self.v[i]
         }
+    }
+
+    /// The speed [m/s] that the `dwell_stiction` clock compares with
+    /// `v_rest` at sample `i` ([`Prepared::count_period_speed`]).
+    pub fn rest_speed(&self, i: usize) -> f64 {
+        self.rest_speed[i]
+    }
+
+    /// Speed [m/s] of the axis for the `dwell_stiction` clock at every
+    /// sample of the positions `xs` [m] at times `t` [s], `q` [m] the
+    /// encoder count, from the counts alone (the encoder's period, "1/T",
+    /// estimate). A **stay** is a run of samples on one count. The speed
+    /// over a stay is the step that ends it over the time from the change
+    /// that began it, when both changes go the same way (the axis crossed
+    /// the whole count); 0 when they go opposite ways (the axis turned
+    /// within the count, through zero velocity, and may have moved no more
+    /// than a hair either side of a count boundary). The first stay counts
+    /// from the record's start, the last one to its end with the last step;
+    /// a record that never changes its count has speed 0. At the sample of
+    /// a count change the speed is the larger of the stays on either side,
+    /// and at least the step less one count over one sample period (a jump
+    /// of several counts within a sample is fast motion).
+    ///
+    /// MODEL.md §5 counts a rest while `|v| ≤ v_rest`, with `v_rest`
+    /// usually well below a count per sample. A slow presliding creep
+    /// crosses counts at such speeds: `v̂` over the window around each
+    /// change reads about a count per window, which would restart the
+    /// clock at every count although the axis never moved faster than a
+    /// count per stay. An axis that settles on a count after a move is
+    /// still moving while its stays are short, and its rest starts with
+    /// the first long stay; a dither on a count boundary is rest, and
+    /// every reversal passes through rest, as it does in the model.
+    /// (Dips below `v_rest` within a count, which restart the clock of a
+    /// simulation, cannot be seen.)
+    pub fn count_period_speed(xs: &[f64], t: &[f64], q: f64) -> Vec<f64> {
+        let n = xs.len();
+        let changes: Vec<usize> = (1..n).filter(|&i| xs[i] != xs[i - 1]).collect();
+        let mut speed = vec![0.0; n];
+        let Some(&last) = changes.last() else {
+            return speed;
+        };
+        let step = |c: usize| xs[c] - xs[c - 1];
+        // Speed over the stay [begin, end): `begin` 0 or a change, `end` the
+        // next change or `n`.
+        let stay_speed = |begin: usize, end: usize| -> f64 {
+            let (to, s) = if end < n {
+                (end, step(end))
+            } else {
+                (n - 1, step(last))
+            };
+            let turned = begin > 0 && end < n && step(begin).signum() != s.signum();
+            if turned || t[to] <= t[begin] {
+                0.0
+            } else {
+                s.abs() / (t[to] - t[begin])
+            }
+        };
+        let mut begin = 0;
+        let mut before = 0.0;
+        for k in 0..=changes.len() {
+            let end = changes.get(k).copied().unwrap_or(n);
+            let stay = stay_speed(begin, end);
+            speed[begin..end].fill(stay);
+            if begin > 0 {
+                let jump = (step(begin).abs() - q).max(0.0) / (t[begin] - t[begin - 1]);
+                speed[begin] = stay.max(before).max(jump);
+            }
+            before = stay;
+            begin = end;
+        }
+        speed
     }
 
     /// Runs the friction memory of `m` along the measured motion and calls
@@ -1020,6 +1098,7 @@ impl Prepared {
             let terms = SampleTerms {
                 decay: decay.as_ref().map(|d| d[i]),
                 speed_pow: speed_pow.as_ref().map(|p| p[i]),
+                rest_speed: Some(self.rest_speed[i]),
             };
             fr.update_with(m, self.t[i], self.x[i], self.model_velocity(i), terms);
             f(i, &fr);
@@ -1510,6 +1589,54 @@ pub(crate) mod tests {
             }
         });
         assert!(td > 1.9 && td < 2.1, "t_d {td} s after a 2 s hold");
+    }
+
+    /// The clock's speed from the counts: a creep of one count per 50
+    /// samples reads a count per stay (not the count per window that `v̂`
+    /// reads around each change); a dither on a count boundary, and the
+    /// stay at a reversal, read 0; a jump of four counts within one sample
+    /// reads at least three counts per sample however long the stay
+    /// before it; fast motion reads its steps per sample.
+    #[test]
+    fn count_period_speed_of_creep_dither_jump_and_motion() {
+        let (q, h) = (1e-6, 1e-3);
+        // 100 samples on count 0; counts 1..=5 every 50 samples; dither
+        // 5 ↔ 6 every 10 samples; back on 5 for 100 samples; a jump to 9;
+        // 100 samples there; then 3 counts per sample.
+        let mut xs: Vec<f64> = vec![0.0; 100];
+        for c in 1..=5 {
+            xs.extend(std::iter::repeat_n(c as f64 * q, 50));
+        }
+        for j in 0..6 {
+            xs.extend(std::iter::repeat_n((5 + (j + 1) % 2) as f64 * q, 10));
+        }
+        xs.extend(std::iter::repeat_n(5.0 * q, 100));
+        xs.extend(std::iter::repeat_n(9.0 * q, 100));
+        let fast0 = xs.len();
+        xs.extend((1..=20).map(|j| (9 + 3 * j) as f64 * q));
+        let t: Vec<f64> = (0..xs.len()).map(|i| i as f64 * h).collect();
+        let v = Prepared::count_period_speed(&xs, &t, q);
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * b.abs().max(1e-12);
+        // The first stay: the first step over the time from the start.
+        assert!(close(v[50], q / (100.0 * h)), "first stay {}", v[50]);
+        // The creep: a count per 50 samples on the stays and the changes.
+        for i in [100, 125, 150, 199, 275] {
+            assert!(close(v[i], q / (50.0 * h)), "creep at {i}: {}", v[i]);
+        }
+        // The dither: stays between opposite changes read 0.
+        let dither = 350 + 15;
+        assert_eq!(v[dither], 0.0, "dither");
+        assert_eq!(v[dither + 20], 0.0, "dither");
+        // The jump of 4 counts in one sample after a 100-sample stay.
+        let jump = fast0 - 100;
+        assert!(v[jump] >= 2.9 * q / h, "jump {}", v[jump]);
+        assert!(
+            v[jump - 1] < 0.1 * q / h,
+            "stay before the jump {}",
+            v[jump - 1]
+        );
+        // Fast motion: 3 counts per sample.
+        assert!(close(v[fast0 + 5], 3.0 * q / h), "motion {}", v[fast0 + 5]);
     }
 
     /// Below one count per sample the friction is known only to its whole

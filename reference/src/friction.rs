@@ -19,6 +19,9 @@
 //!   rest (`t_start` the first sample of the rest), held once `|v| > v_rest`,
 //!   and reset to 0 at the first sample of a new rest. The record starts at
 //!   rest: `t_start = t0`, so `t_d = 0` at a first sample taken at `t0`.
+//!   A caller may give the speed the clock compares with `v_rest`
+//!   ([`SampleTerms::rest_speed`]) where `|v|` of the sample is not the best
+//!   estimate of it.
 //! * `frictional_lag`: `v_l = v` at the first sample; between samples
 //!   `τ_L·dv_l/dt = v − v_l` is integrated exactly with `v` linear between the
 //!   two samples (first-order hold):
@@ -39,6 +42,11 @@ pub struct SampleTerms {
     pub decay: Option<f64>,
     /// `|v|^n` of `nonlinear_viscous`.
     pub speed_pow: Option<f64>,
+    /// The speed [m/s] that the `dwell_stiction` clock compares with
+    /// `v_rest`, where it is estimated otherwise than `|v|` (on measured
+    /// data, from the time the axis takes to cross an encoder count);
+    /// `None`: `|v|`.
+    pub rest_speed: Option<f64>,
 }
 
 /// Friction force of the full §5 composition, with its memory.
@@ -106,7 +114,7 @@ impl Friction {
         }
         // Dwell time.
         if let Some(dw) = &e.dwell_stiction {
-            if v.abs() <= dw.v_rest {
+            if terms.rest_speed.unwrap_or(v.abs()) <= dw.v_rest {
                 if !self.resting {
                     self.resting = true;
                     self.rest_start = t;

@@ -386,6 +386,7 @@ fn update_with_its_own_terms_is_update() {
             let terms = SampleTerms {
                 decay: Some(decay),
                 speed_pow: Some(v.abs().powf(0.6)),
+                rest_speed: Some(v.abs()),
             };
             let (a, b) = (
                 plain.update(&m, t, x, v),

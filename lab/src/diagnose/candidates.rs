@@ -419,8 +419,9 @@ pub(super) fn long_presliding(p: &Prepared, m: &Model) -> bool {
 /// proportion to `t_d/(t_d + γ)`); the best grid points by the cost drop.
 ///
 /// `v_rest` is not fitted by least squares (t_d jumps with it). The grid
-/// holds the encoder's rest (no count change for 50 samples, the 1/T
-/// velocity of [`crate::residual`]) and fractions of the Stribeck velocity,
+/// holds the encoder's rest (a count per 50 samples or slower, the 1/T
+/// speed of [`Prepared::count_period_speed`] that the clock compares with
+/// `v_rest`) and fractions of the Stribeck velocity,
 /// which also count the slow presliding creep before a break-away as rest.
 pub(super) fn dwell_starts(p: &Prepared, m: &Model, r: &[f64]) -> Vec<Model> {
     let count_rate = p.resolution / p.dt;

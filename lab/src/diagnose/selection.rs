@@ -173,8 +173,9 @@ pub const MIN_DWELL_REST: f64 = 0.1;
 pub const MIN_DWELL_SPREAD: f64 = 0.15;
 
 /// Spread (max − min) of `t_d/(t_d + γ)` of `m`'s dwell term over the
-/// rests of at least [`MIN_DWELL_REST`] that end in motion (data-side rest: `|v̂| ≤
-/// v_rest`); 0 without the effect or with fewer than two such rests.
+/// rests of at least [`MIN_DWELL_REST`] that end in motion (data-side rest:
+/// [`Prepared::rest_speed`] `≤ v_rest`, as the model's clock counts it); 0
+/// without the effect or with fewer than two such rests.
 pub fn dwell_spread(p: &Prepared, m: &Model) -> f64 {
     let Some(dw) = m.effects.dwell_stiction else {
         return 0.0;
@@ -182,7 +183,7 @@ pub fn dwell_spread(p: &Prepared, m: &Model) -> f64 {
     let mut start: Option<f64> = Some(p.t[0]);
     let (mut lo, mut hi, mut n) = (f64::INFINITY, f64::NEG_INFINITY, 0);
     for i in 0..p.len() {
-        if p.model_velocity(i).abs() <= dw.v_rest {
+        if p.rest_speed(i) <= dw.v_rest {
             start.get_or_insert(p.t[i]);
         } else if let Some(s) = start.take() {
             let td = p.t[i] - s;
