@@ -1064,6 +1064,7 @@ impl Prepared {
             let stay = stay_speed(begin, end);
             speed[begin..end].fill(stay);
             if begin > 0 {
+                // (The loader admits only increasing times.)
                 let jump = (step(begin).abs() - q).max(0.0) / (t[begin] - t[begin - 1]);
                 speed[begin] = stay.max(before).max(jump);
             }

@@ -33,8 +33,10 @@ use crate::model::Model;
 use crate::presliding::Presliding;
 use std::f64::consts::PI;
 
-/// Per-sample terms of [`Friction::update_with`] that depend only on the
-/// sample's velocity `v` [m/s] and the model's shape; `None`: computed.
+/// Per-sample terms of [`Friction::update_with`]; `None`: computed. The
+/// first two depend only on the sample's velocity `v` [m/s] and the model's
+/// shape (a cache of them gives the same force); `rest_speed` is an input
+/// of its own, the speed estimate the `dwell_stiction` clock runs on.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct SampleTerms {
     /// The Stribeck decay `exp(−(|v|/V)^δ)` ([`stribeck_decay`]); not used
@@ -96,7 +98,8 @@ impl Friction {
     /// computed (the same result to the last bit when they are those of
     /// `m` and `v`): a caller that runs many models of one shape over the
     /// same velocities computes them once. Terms that do not belong to
-    /// `m` and `v` give a wrong force.
+    /// `m` and `v` give a wrong force. [`SampleTerms::rest_speed`] is the
+    /// exception: it replaces `|v|` in the `dwell_stiction` clock alone.
     pub fn update_with(&mut self, m: &Model, t: f64, x: f64, v: f64, terms: SampleTerms) -> f64 {
         let e = &m.effects;
         // Frictional lag.
