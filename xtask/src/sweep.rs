@@ -809,6 +809,11 @@ pub const SMOKE_CASES: &[(u64, &str, &str)] = &[
         "mixed",
         "stick-slip faster than the sampling: the second pass without the bursts of version 8.1",
     ),
+    (
+        3_000_113,
+        "mixed",
+        "a rest through a slow presliding creep: the rest clock on the counts' period speed of version 8.2",
+    ),
 ];
 
 #[cfg(test)]
