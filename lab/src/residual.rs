@@ -496,11 +496,13 @@ impl Prepared {
             }
         }
         let _ = n_rest;
-        let mut rest_speed = Self::count_period_speed(xs, &rec.t, q);
-        if let Some(mv) = &rec.v {
-            v.clone_from(mv);
-            rest_speed = mv.iter().map(|v| v.abs()).collect();
-        }
+        let rest_speed = match &rec.v {
+            Some(mv) => {
+                v.clone_from(mv);
+                mv.iter().map(|v| v.abs()).collect()
+            }
+            None => Self::count_period_speed(xs, &rec.t, q),
+        };
         let resolution = q;
         let v_rest = REST_COUNT_RATE * q / dt;
         let mut still = vec![false; n];
