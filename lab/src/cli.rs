@@ -100,6 +100,10 @@ pub enum Command {
     Diagnose(DiagnoseArgs),
     /// The parameters of a model structure (the given model's, or the base model).
     ///
+    /// The residual is weighted with the data's base model's weights, as in
+    /// validate, whatever the start: the figures of two fits of one record
+    /// compare like with like.
+    ///
     /// DATA: CSV with columns t, u, x (optional v), or a .mat file in the
     /// EMPS layout (lab/README.md, "Input files").
     Fit(FitArgs),

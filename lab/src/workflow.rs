@@ -138,12 +138,11 @@ pub fn fit(args: FitArgs, out: &mut dyn Write) -> Result<(), Error> {
     }
     let mut progress = Progress::stderr();
     let mut p = Prepared::with_window(&rec, window);
-    let m0 = match &start {
-        Some(m) => m.clone(),
-        None => diagnose::initial_base(&p, &mut |s| progress.show(s)),
-    };
-    let r0 = p.residual(&m0);
-    p.set_error_weights(&m0, &r0);
+    // The weights come from the data's base model whatever the start, as
+    // in `validate` and `diagnose`: the figures of two fits of one record
+    // (and `validate` of the fitted model) compare like with like.
+    let base = diagnose::base_weights(&mut p, &mut |s| progress.show(s));
+    let m0 = start.unwrap_or(base);
     progress.show("fitting");
     let params = fit::params_of(&m0);
     let res = fit::fit(&p, &m0, &params, &FitOptions::default(), &mut |_| {});

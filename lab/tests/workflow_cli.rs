@@ -79,6 +79,26 @@ fn synth_fit_validate_diagnose() {
     );
     assert!(v["rms_held_out"].as_f64().unwrap() < 0.05);
 
+    // The weights are the data's, not the start's: from a start with both
+    // levels doubled, the fit ends at the same model and reports the same
+    // figures (with weights from the start, 0.000499 against 0.000488 N).
+    let far = tmp("offset_far.toml");
+    let mut m2 = m.clone();
+    (m2.fc, m2.fs) = (2.0 * m.fc, 2.0 * m.fs);
+    std::fs::write(&far, m2.to_toml_string()).unwrap();
+    let j2 = ok(&["fit", d, "--model", far.to_str().unwrap(), "--json"]);
+    let v2: serde_json::Value = serde_json::from_str(&j2).unwrap();
+    let (fc1, fc2) = (
+        v["model"]["fc"].as_f64().unwrap(),
+        v2["model"]["fc"].as_f64().unwrap(),
+    );
+    assert!((fc1 - fc2).abs() < 1e-4 * fc1, "fc {fc1} vs {fc2}");
+    let (h1, h2) = (
+        v["rms_held_out"].as_f64().unwrap(),
+        v2["rms_held_out"].as_f64().unwrap(),
+    );
+    assert!((h1 - h2).abs() < 1e-3 * h1, "held-out rms {h1} vs {h2}");
+
     // validate: the metric of the fitted model, per regime.
     let j = ok(&["validate", d, "--model", fitted.to_str().unwrap(), "--json"]);
     let v: serde_json::Value = serde_json::from_str(&j).unwrap();
