@@ -30,17 +30,138 @@ pub enum Kind {
     Steady,
     /// A mix: ~15 % steady, the rest dynamic with ~35 % outside plants.
     Mixed,
+    /// The make-up of the suite that issue 10 keeps outside the project,
+    /// as its text describes it: in every [`SUITE_SLOTS`] consecutive
+    /// seeds, 20 `servo` records on the `model` plant (3 without effects,
+    /// 2 with each of seven effects, 3 pairs; [`SUITE_MODEL`]) and 6 on
+    /// `lugre` ([`SUITE_LUGRE`]), drawn within that suite's ranges
+    /// ([`Ranges::SUITE`]). The slot is `seed mod 26`.
+    Suite,
 }
 
 impl Kind {
-    /// Parses `model|outside|steady|mixed`.
+    /// Parses `model|outside|steady|mixed|suite`.
     pub fn from_name(s: &str) -> Option<Kind> {
         match s {
             "model" => Some(Kind::Model),
             "outside" => Some(Kind::Outside),
             "steady" => Some(Kind::Steady),
             "mixed" => Some(Kind::Mixed),
+            "suite" => Some(Kind::Suite),
             _ => None,
+        }
+    }
+}
+
+/// Hidden effects of the `model`-plant slots of [`Kind::Suite`]: the
+/// counts issue 10 gives for its outside suite (3 null records, 2 of each
+/// of seven effects, and the pairs viscous + ripple, offset + drift,
+/// dwell + viscous).
+pub const SUITE_MODEL: [&[Effect]; 20] = [
+    &[],
+    &[],
+    &[],
+    &[Effect::Viscous],
+    &[Effect::Viscous],
+    &[Effect::PositionRipple],
+    &[Effect::PositionRipple],
+    &[Effect::Asymmetry],
+    &[Effect::Asymmetry],
+    &[Effect::Drift],
+    &[Effect::Drift],
+    &[Effect::Offset],
+    &[Effect::Offset],
+    &[Effect::DwellStiction],
+    &[Effect::DwellStiction],
+    &[Effect::FrictionalLag],
+    &[Effect::FrictionalLag],
+    &[Effect::Viscous, Effect::PositionRipple],
+    &[Effect::Offset, Effect::Drift],
+    &[Effect::DwellStiction, Effect::Viscous],
+];
+
+/// Hidden effects of the `lugre` slots of [`Kind::Suite`] (issue 10 does
+/// not list its six; these are the effects a LuGre plant carries, one
+/// null record among them).
+pub const SUITE_LUGRE: [&[Effect]; 6] = [
+    &[],
+    &[Effect::Viscous],
+    &[Effect::Asymmetry],
+    &[Effect::Offset],
+    &[Effect::PositionRipple],
+    &[Effect::Drift],
+];
+
+/// Seeds per round of [`Kind::Suite`].
+pub const SUITE_SLOTS: u64 = (SUITE_MODEL.len() + SUITE_LUGRE.len()) as u64;
+
+/// The plant and hidden effects of slot `seed mod SUITE_SLOTS` of
+/// [`Kind::Suite`].
+pub fn suite_slot(seed: u64) -> (PlantKind, Vec<Effect>) {
+    // (The remainder is below SUITE_SLOTS = 26.)
+    let slot = (seed % SUITE_SLOTS) as usize;
+    match SUITE_MODEL.get(slot) {
+        Some(e) => (PlantKind::Model, e.to_vec()),
+        None => (PlantKind::Lugre, SUITE_LUGRE[slot - SUITE_MODEL.len()].to_vec()),
+    }
+}
+
+/// Ranges the numeric parameters are drawn from (log-uniform unless
+/// stated).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ranges {
+    /// Moving mass [kg].
+    pub mass: (f64, f64),
+    /// Stribeck exponent δ (uniform).
+    pub delta: (f64, f64),
+    /// Encoder count [m].
+    pub q: (f64, f64),
+    /// Presliding distance in encoder counts.
+    pub z_max_counts: (f64, f64),
+    /// Presliding distance [m], when the range is given in metres
+    /// (intersected with `z_max_counts`).
+    pub z_max: Option<(f64, f64)>,
+    /// `Π = √(2·Fs·z_max/m)/V`.
+    pub pi: (f64, f64),
+    /// Force-noise std as a share of Fc (uniform).
+    pub noise_share: (f64, f64),
+    /// Visibility of each hidden effect (effect RMS / noise std).
+    pub visibility: (f64, f64),
+}
+
+impl Ranges {
+    /// Every kind but [`Kind::Suite`]: wider than issue 10's outside
+    /// suite on every axis.
+    pub const WIDE: Ranges = Ranges {
+        mass: (0.5, 50.0),
+        delta: (0.6, 2.2),
+        q: (0.1e-6, 2e-6),
+        z_max_counts: (6.0, 100.0),
+        z_max: None,
+        pi: (0.5, 15.0),
+        noise_share: (0.001, 0.006),
+        visibility: (3.0, 100.0),
+    };
+    /// [`Kind::Suite`]: issue 10's description of its outside suite
+    /// (masses 1–20 kg, δ 0.7–2, Π 1–15, encoder 0.5–1 µm against
+    /// `z_max` 6–50 µm, force noise 0.2–0.5 % of Fc, each effect 7–80×
+    /// the noise).
+    pub const SUITE: Ranges = Ranges {
+        mass: (1.0, 20.0),
+        delta: (0.7, 2.0),
+        q: (0.5e-6, 1e-6),
+        z_max_counts: (6.0, 100.0),
+        z_max: Some((6e-6, 50e-6)),
+        pi: (1.0, 15.0),
+        noise_share: (0.002, 0.005),
+        visibility: (7.0, 80.0),
+    };
+
+    /// The ranges of `kind`.
+    pub fn of(kind: Kind) -> Ranges {
+        match kind {
+            Kind::Suite => Ranges::SUITE,
+            Kind::Model | Kind::Outside | Kind::Steady | Kind::Mixed => Ranges::WIDE,
         }
     }
 }
@@ -163,6 +284,7 @@ pub fn draw(seed: u64, attempt: u32, kind: Kind, ov: &Overrides) -> Result<Draw,
     let mut family = match kind {
         Kind::Steady => Family::Steady,
         Kind::Mixed if fam_u < 0.15 => Family::Steady,
+        Kind::Suite => Family::Servo,
         _ => Family::DYNAMIC[dyn_i],
     };
     if let Some(f) = ov.family {
@@ -171,6 +293,7 @@ pub fn draw(seed: u64, attempt: u32, kind: Kind, ov: &Overrides) -> Result<Draw,
     let mut plant = match kind {
         Kind::Outside => PlantKind::OUTSIDE[out_i],
         Kind::Mixed if plant_u < 0.35 => PlantKind::OUTSIDE[out_i],
+        Kind::Suite => suite_slot(seed).0,
         _ => PlantKind::Model,
     };
     if family == Family::Steady {
@@ -219,6 +342,9 @@ pub fn draw(seed: u64, attempt: u32, kind: Kind, ov: &Overrides) -> Result<Draw,
         .filter(|&&i| i < 8)
         .map(|&i| Effect::ALL[i])
         .collect();
+    if kind == Kind::Suite {
+        hidden = suite_slot(seed).1;
+    }
     if let Some(e) = &ov.effects {
         hidden = e.clone();
         stribeck_absent = false;
@@ -252,29 +378,35 @@ pub fn draw(seed: u64, attempt: u32, kind: Kind, ov: &Overrides) -> Result<Draw,
     let rng = &mut r;
 
     // Base parameters with the Π check.
+    let ranges = Ranges::of(kind);
     let fc = lu(rng, 0.5, 50.0);
     let fs = fc * uni(rng, 1.1, 1.8);
     let fs = if stribeck_absent { fc } else { fs };
-    let delta = uni(rng, 0.6, 2.2);
-    let q = lu(rng, 0.1e-6, 2e-6);
-    let z_max = lu(rng, 6.0, 100.0) * q;
-    let mut mass = lu(rng, 0.5, 50.0);
+    let delta = uni(rng, ranges.delta.0, ranges.delta.1);
+    let q = lu(rng, ranges.q.0, ranges.q.1);
+    let (c_lo, c_hi) = ranges.z_max_counts;
+    let z_max = match ranges.z_max {
+        None => lu(rng, c_lo, c_hi) * q,
+        Some((lo, hi)) => lu(rng, lo.max(c_lo * q), hi.min(c_hi * q)),
+    };
+    let mut mass = lu(rng, ranges.mass.0, ranges.mass.1);
     let mut v_s = lu(rng, 0.3e-3, 5e-3);
     let pi = |m: f64, v: f64| (2.0 * fs * z_max / m).sqrt() / v;
+    let pi_ok = |m: f64, v: f64| (ranges.pi.0..=ranges.pi.1).contains(&pi(m, v));
     let mut tries = 0;
-    while !(0.5..=15.0).contains(&pi(mass, v_s)) && tries < 400 {
+    while !pi_ok(mass, v_s) && tries < 400 {
         if tries % 2 == 0 {
             v_s = lu(rng, 0.3e-3, 5e-3);
         } else {
-            mass = lu(rng, 0.5, 50.0);
+            mass = lu(rng, ranges.mass.0, ranges.mass.1);
         }
         tries += 1;
     }
-    if !(0.5..=15.0).contains(&pi(mass, v_s)) {
+    if !pi_ok(mass, v_s) {
         // Put V where Π = 5 (z_max and Fs fixed).
         v_s = (2.0 * fs * z_max / mass).sqrt() / 5.0;
     }
-    let noise_std = fc * uni(rng, 0.001, 0.006);
+    let noise_std = fc * uni(rng, ranges.noise_share.0, ranges.noise_share.1);
     let mut duration = uni(rng, 20.0, 40.0);
     if let Some(d) = ov.duration {
         duration = d;
@@ -294,7 +426,7 @@ pub fn draw(seed: u64, attempt: u32, kind: Kind, ov: &Overrides) -> Result<Draw,
     let mut e = Effects::default();
     let mut targets = Vec::new();
     for &eff in &hidden {
-        let target = lu(rng, 3.0, 100.0);
+        let target = lu(rng, ranges.visibility.0, ranges.visibility.1);
         targets.push(target);
         let ft = target * noise_std;
         match eff {
@@ -460,6 +592,51 @@ mod tests {
             for t in &d.targets {
                 assert!((3.0..=100.0).contains(t));
             }
+        }
+    }
+
+    /// A `suite` round of 26 seeds holds issue 10's mix (20 `servo`
+    /// records on `model`: 3 null, 2 of each of seven effects, 3 pairs;
+    /// 6 on `lugre`), every draw within that suite's ranges.
+    #[test]
+    fn suite_rounds_hold_the_outside_suite_mix_and_ranges() {
+        let r = Ranges::SUITE;
+        let inside = |x: f64, (lo, hi): (f64, f64)| x >= lo * 0.999_999 && x <= hi * 1.000_001;
+        let mut model = Vec::new();
+        let mut lugre = 0;
+        for seed in 52..52 + SUITE_SLOTS {
+            let d = draw(seed, 0, Kind::Suite, &Overrides::default()).unwrap();
+            assert_eq!(d.family, Family::Servo);
+            match d.plant {
+                PlantKind::Model => model.push(d.hidden.clone()),
+                PlantKind::Lugre => lugre += 1,
+                other => panic!("plant {other:?}"),
+            }
+            let p = d.model.p;
+            assert!(inside(p.mass, r.mass), "mass {}", p.mass);
+            assert!(inside(p.delta, r.delta));
+            assert!(inside(d.q, r.q));
+            assert!(inside(p.z_max, (6e-6, 50e-6)), "z_max {}", p.z_max);
+            assert!(inside(d.pi(), r.pi), "Π {}", d.pi());
+            assert!(inside(d.noise_std / p.fc, r.noise_share));
+            for t in &d.targets {
+                assert!(inside(*t, r.visibility));
+            }
+        }
+        assert_eq!(lugre, 6);
+        assert_eq!(model.iter().filter(|h| h.is_empty()).count(), 3);
+        assert_eq!(model.iter().filter(|h| h.len() == 2).count(), 3);
+        for e in [
+            Effect::Viscous,
+            Effect::PositionRipple,
+            Effect::Asymmetry,
+            Effect::Drift,
+            Effect::Offset,
+            Effect::DwellStiction,
+            Effect::FrictionalLag,
+        ] {
+            let alone = model.iter().filter(|h| h.as_slice() == [e]).count();
+            assert_eq!(alone, 2, "{e:?}");
         }
     }
 }

@@ -54,7 +54,7 @@ enum Cmd {
         /// records also take `stribeck-absent` (drawn when absent).
         #[arg(long)]
         effects: Option<String>,
-        /// What to draw from when family/plant are absent: model, outside, steady, mixed.
+        /// What to draw from when family/plant are absent: model, outside, steady, mixed, suite (issue 10's outside suite: servo records, its effect mix by seed mod 26, its ranges).
         #[arg(long, default_value = "mixed")]
         kind: String,
         /// Record length [s] (default: drawn, 20–40 s).
@@ -69,7 +69,7 @@ enum Cmd {
         /// Seeds `A..B` (B excluded), `A..=B`, or one seed.
         #[arg(long)]
         seeds: String,
-        /// model, outside, steady or mixed.
+        /// model, outside, steady, mixed, or suite (issue 10's outside suite: servo records, its effect mix by seed mod 26, its ranges).
         #[arg(long, default_value = "mixed")]
         kind: String,
         /// Worker threads (default: the available cores).
@@ -96,7 +96,7 @@ struct Usage(String);
 fn parse_kind(s: &str) -> Result<Kind, Usage> {
     Kind::from_name(s).ok_or_else(|| {
         Usage(format!(
-            "unknown kind `{s}` (expected model, outside, steady or mixed)"
+            "unknown kind `{s}` (expected model, outside, steady, mixed or suite)"
         ))
     })
 }

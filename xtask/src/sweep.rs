@@ -43,7 +43,7 @@ pub struct Options {
     pub from: u64,
     /// One past the last seed.
     pub to: u64,
-    /// Record kind for the generator (`model`, `outside`, `mixed`).
+    /// Record kind for the generator (`model`, `outside`, `steady`, `mixed`, `suite`).
     pub kind: String,
     /// Where the records and reports go.
     pub out: PathBuf,
@@ -58,7 +58,7 @@ pub struct Args {
     #[arg(long, value_name = "A..B", default_value = "100000..100160", value_parser = seeds)]
     seeds: (u64, u64),
     /// The kind of record the generator draws
-    #[arg(long, default_value = "mixed", value_parser = ["model", "outside", "steady", "mixed"])]
+    #[arg(long, default_value = "mixed", value_parser = ["model", "outside", "steady", "mixed", "suite"])]
     kind: String,
     /// Where the records and reports go [default: target/sweep]
     #[arg(long, value_name = "DIR")]
