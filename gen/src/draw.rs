@@ -102,7 +102,10 @@ pub fn suite_slot(seed: u64) -> (PlantKind, Vec<Effect>) {
     let slot = (seed % SUITE_SLOTS) as usize;
     match SUITE_MODEL.get(slot) {
         Some(e) => (PlantKind::Model, e.to_vec()),
-        None => (PlantKind::Lugre, SUITE_LUGRE[slot - SUITE_MODEL.len()].to_vec()),
+        None => (
+            PlantKind::Lugre,
+            SUITE_LUGRE[slot - SUITE_MODEL.len()].to_vec(),
+        ),
     }
 }
 

@@ -814,6 +814,11 @@ pub const SMOKE_CASES: &[(u64, &str, &str)] = &[
         "mixed",
         "a rest through a slow presliding creep: the rest clock on the counts' period speed of version 8.2",
     ),
+    (
+        3_400_059,
+        "suite",
+        "a dwell term diluted over the motion: the dwell visibility of version 8.3",
+    ),
 ];
 
 #[cfg(test)]

@@ -414,7 +414,8 @@ fn admissible(p: &Prepared, fitted: &Model, effect: Effect) -> bool {
     }
     // A fit that ran to a bound of its parameters has not found the effect
     // (or has found a simpler structure).
-    degenerate(p, fitted, effect).is_none() && visibility(p, fitted, effect) >= MIN_VISIBILITY
+    degenerate(p, fitted, effect).is_none()
+        && visibility(p, fitted, effect) >= min_visibility(effect)
 }
 
 /// The best pair of a round's candidates when none passed alone:
