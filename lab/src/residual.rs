@@ -256,6 +256,23 @@ fn spread(n: usize, marked: impl Iterator<Item = usize>, h: usize) -> Vec<bool> 
     out
 }
 
+/// Least length, in samples, of a stay that [`Prepared::count_period_speed`]
+/// reads as a stick.
+pub const STICK_MIN_STAY: usize = 3;
+
+/// Least ratio of a stay's length to the one before it that
+/// [`Prepared::count_period_speed`] reads as a stick. On the suite-like
+/// records 3400086 and 3400091 of `breakaway-gen` the axis advanced a
+/// count every 1 and 3–4 samples and then held one count for 3 and 13
+/// samples, where the generator's dwell clock restarted.
+pub const STICK_RATIO: f64 = 2.5;
+
+/// Whether a stay of `len` samples after one of `previous` samples is a
+/// stick ([`STICK_MIN_STAY`], [`STICK_RATIO`]).
+fn stuck(len: usize, previous: usize) -> bool {
+    len >= STICK_MIN_STAY && len as f64 >= STICK_RATIO * previous as f64
+}
+
 /// A record prepared for fitting: derivatives, kernel, weights, split.
 #[derive(Clone, Debug)]
 pub struct Prepared {
@@ -1036,6 +1053,16 @@ impl Prepared {
     /// every reversal passes through rest, as it does in the model.
     /// (Dips below `v_rest` within a count, which restart the clock of a
     /// simulation, cannot be seen.)
+    ///
+    /// A **stick** (version 8.4): a stay that the axis crosses on its way
+    /// (both changes the same way) but of at least [`STICK_MIN_STAY`]
+    /// samples and [`STICK_RATIO`] times the stay before it counts as rest
+    /// too. The count rate fell several-fold within one count, which a
+    /// servo-driven axis does when it sticks for a few milliseconds after
+    /// a break-away or in a jerky slow move: its velocity passed through
+    /// `v_rest`, and MODEL.md's clock starts a new, short rest there,
+    /// while the stay's mean speed, a count over its length, still reads
+    /// above `v_rest`.
     pub fn count_period_speed(xs: &[f64], t: &[f64], q: f64) -> Vec<f64> {
         let n = xs.len();
         let changes: Vec<usize> = (1..n).filter(|&i| xs[i] != xs[i - 1]).collect();
@@ -1061,9 +1088,20 @@ impl Prepared {
         };
         let mut begin = 0;
         let mut before = 0.0;
+        // Samples of the stay before, `None` for the record's first one.
+        let mut previous: Option<usize> = None;
         for k in 0..=changes.len() {
             let end = changes.get(k).copied().unwrap_or(n);
-            let stay = stay_speed(begin, end);
+            let mut stay = stay_speed(begin, end);
+            let len = end - begin;
+            if let Some(prev) = previous {
+                // Crossed on the way, but far slower than the count before:
+                // the axis stuck within it.
+                if stay > 0.0 && end < n && stuck(len, prev) {
+                    stay = 0.0;
+                }
+            }
+            previous = (begin > 0).then_some(len);
             speed[begin..end].fill(stay);
             if begin > 0 {
                 // (The loader admits only increasing times.)
@@ -1640,6 +1678,52 @@ pub(crate) mod tests {
         );
         // Fast motion: 3 counts per sample.
         assert!(close(v[fast0 + 5], 3.0 * q / h), "motion {}", v[fast0 + 5]);
+    }
+
+    /// A stick within a move: an axis crossing a count per sample that
+    /// holds one count for 3 samples, or one crossing a count every 4
+    /// samples that holds one for 13, reads 0 there (a rest of MODEL.md's
+    /// clock); stays that lengthen by less than [`STICK_RATIO`], as a
+    /// steady creep's or a smooth slow-down's do, keep their speed.
+    #[test]
+    fn a_stay_far_longer_than_the_one_before_is_a_stick() {
+        let (q, h) = (1e-6, 1e-3);
+        // 50 samples on count 0; counts 1..=5 one per sample; 3 samples
+        // on count 5 (the stick); counts 6..=9 one per sample; counts
+        // 10..=14 every 4 samples; 13 samples on count 15 (the stick);
+        // counts 16..=19 every 4 samples; counts 20..=23 every 2, 3, 4, 6
+        // samples (a slow-down); then 100 samples at rest.
+        let mut xs: Vec<f64> = vec![0.0; 50];
+        let mut count = 0;
+        let mut stays = |xs: &mut Vec<f64>, lens: &[usize]| {
+            for &len in lens {
+                count += 1;
+                xs.extend(std::iter::repeat_n(count as f64 * q, len));
+            }
+        };
+        stays(&mut xs, &[1, 1, 1, 1]);
+        let stick_1 = xs.len();
+        stays(&mut xs, &[3, 1, 1, 1, 1, 4, 4, 4, 4]);
+        let before_2 = xs.len() - 4;
+        stays(&mut xs, &[4]);
+        let stick_2 = xs.len();
+        stays(&mut xs, &[13, 4, 4, 4, 4, 2, 3, 4]);
+        let slow_down = xs.len();
+        stays(&mut xs, &[6, 100]);
+        let t: Vec<f64> = (0..xs.len()).map(|i| i as f64 * h).collect();
+        let v = Prepared::count_period_speed(&xs, &t, q);
+        assert_eq!(v[stick_1 + 1], 0.0, "one count per sample, then 3 on one");
+        assert_eq!(v[stick_2 + 6], 0.0, "a count per 4 samples, then 13 on one");
+        assert!(
+            v[before_2 + 1] > 0.2 * q / h,
+            "steady creep {}",
+            v[before_2 + 1]
+        );
+        assert!(
+            v[slow_down + 2] > 0.1 * q / h,
+            "slow-down {}",
+            v[slow_down + 2]
+        );
     }
 
     /// Below one count per sample the friction is known only to its whole

@@ -819,6 +819,11 @@ pub const SMOKE_CASES: &[(u64, &str, &str)] = &[
         "suite",
         "a dwell term diluted over the motion: the dwell visibility of version 8.3",
     ),
+    (
+        3_400_091,
+        "suite",
+        "sticks within a count after break-aways: the rest clock's sticks of version 8.4",
+    ),
 ];
 
 #[cfg(test)]
