@@ -1052,7 +1052,7 @@ impl Prepared {
     /// the first long stay; a dither on a count boundary is rest, and
     /// every reversal passes through rest, as it does in the model.
     /// (Dips below `v_rest` within a count, which restart the clock of a
-    /// simulation, cannot be seen.)
+    /// simulation, cannot be seen, but for the sticks below.)
     ///
     /// A **stick** (version 8.4): a stay that the axis crosses on its way
     /// (both changes the same way) but of at least [`STICK_MIN_STAY`]
