@@ -284,6 +284,8 @@ pub fn draw(seed: u64, attempt: u32, kind: Kind, ov: &Overrides) -> Result<Draw,
     let dyn_i = rng.gen_range(0..Family::DYNAMIC.len());
     let out_i = rng.gen_range(0..PlantKind::OUTSIDE.len());
     let plant_u: f64 = rng.gen();
+    // The plant and effects of a `suite` slot, fixed by the seed alone.
+    let slot = (kind == Kind::Suite).then(|| suite_slot(seed));
     let mut family = match kind {
         Kind::Steady => Family::Steady,
         Kind::Mixed if fam_u < 0.15 => Family::Steady,
@@ -296,7 +298,7 @@ pub fn draw(seed: u64, attempt: u32, kind: Kind, ov: &Overrides) -> Result<Draw,
     let mut plant = match kind {
         Kind::Outside => PlantKind::OUTSIDE[out_i],
         Kind::Mixed if plant_u < 0.35 => PlantKind::OUTSIDE[out_i],
-        Kind::Suite => suite_slot(seed).0,
+        Kind::Suite => slot.as_ref().map_or(PlantKind::Model, |s| s.0),
         _ => PlantKind::Model,
     };
     if family == Family::Steady {
@@ -345,8 +347,8 @@ pub fn draw(seed: u64, attempt: u32, kind: Kind, ov: &Overrides) -> Result<Draw,
         .filter(|&&i| i < 8)
         .map(|&i| Effect::ALL[i])
         .collect();
-    if kind == Kind::Suite {
-        hidden = suite_slot(seed).1;
+    if let Some((_, effects)) = slot {
+        hidden = effects;
     }
     if let Some(e) = &ov.effects {
         hidden = e.clone();
