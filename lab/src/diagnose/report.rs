@@ -310,6 +310,7 @@ pub fn report_text(rep: &Report, source: &str) -> String {
                 }
                 Some(true) => format!("follow `{b}`"),
                 Some(false) => format!("follow `{a}`"),
+                None if !v.consistent() => "follow neither model".to_string(),
                 None => "do not decide".to_string(),
             };
             let _ = writeln!(
