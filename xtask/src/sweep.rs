@@ -824,6 +824,16 @@ pub const SMOKE_CASES: &[(u64, &str, &str)] = &[
         "suite",
         "sticks within a count after break-aways: the rest clock's sticks of version 8.4",
     ),
+    (
+        3_700_082,
+        "suite",
+        "break-away peaks that follow neither look-alike (LuGre): the consistent verdicts of version 8.5",
+    ),
+    (
+        3_900_085,
+        "suite",
+        "`offset` and `asymmetry` whose sliding shifts oppose: one effect, version 8.6",
+    ),
 ];
 
 #[cfg(test)]

@@ -895,25 +895,45 @@ fn run(
         }
     }
     let (simpler, more) = simplify(&p, model.clone(), true, &mut show);
-    if !more.is_empty() {
+    let simplified = !more.is_empty();
+    if simplified {
         model = simpler;
         (rms, r) = held_rms(&p, &model);
         dropped.extend(more);
-        // Without a dip `offset` and `asymmetry` are one shift (`F0` and
-        // `a·Fc`): only their sum is identified. The one named later goes.
-        let both = [Effect::Offset, Effect::Asymmetry].map(|e| fit::has_effect(&model, e));
-        if both == [true, true] && !fit::has_effect(&model, Effect::Stribeck) {
-            if let Some(k) = steps.iter().rposition(|s| look_alike(s.effect).is_some()) {
-                let effect = steps.remove(k).effect;
-                let refit = refit_without(&p, &model, effect);
-                let (w_rms, w_r) = held_rms(&p, &refit);
-                pruned.push((
-                    effect,
-                    residual::model_error(w_rms, floor),
-                    residual::model_error(rms, floor),
-                ));
-                (model, rms, r) = (refit, w_rms, w_r);
+    }
+    // `offset` and `asymmetry` both named, where they are one shift: without
+    // a dip (`F0` and `a·Fc`, only their sum is identified) the one named
+    // later goes; with shifts that oppose each other ([`shifts_oppose`],
+    // version 8.6) the one whose refit without it is further from the
+    // data stays.
+    let both = [Effect::Offset, Effect::Asymmetry].map(|e| fit::has_effect(&model, e));
+    let no_dip = simplified && !fit::has_effect(&model, Effect::Stribeck);
+    let oppose = both == [true, true] && !no_dip && shifts_oppose(&model);
+    if both == [true, true] && (no_dip || oppose) {
+        let later = steps.iter().rposition(|s| look_alike(s.effect).is_some());
+        let goes = later.map(|k| {
+            let effect = steps[k].effect;
+            let refit = refit_without(&p, &model, effect);
+            let fitted = held_rms(&p, &refit);
+            let other = look_alike(effect).filter(|_| oppose).and_then(|o| {
+                let k = steps.iter().position(|s| s.effect == o)?;
+                let refit = refit_without(&p, &model, o);
+                let fitted = held_rms(&p, &refit);
+                Some((k, refit, fitted))
+            });
+            match other {
+                Some((k_o, refit_o, fitted_o)) if fitted_o.0 < fitted.0 => (k_o, refit_o, fitted_o),
+                _ => (k, refit, fitted),
             }
+        });
+        if let Some((k, refit, (w_rms, w_r))) = goes {
+            let effect = steps.remove(k).effect;
+            pruned.push((
+                effect,
+                residual::model_error(w_rms, floor),
+                residual::model_error(rms, floor),
+            ));
+            (model, rms, r) = (refit, w_rms, w_r);
         }
     }
     // Each named effect was sound when its round took it, but the refits

@@ -163,6 +163,27 @@ pub fn look_alike(effect: Effect) -> Option<Effect> {
     }
 }
 
+/// Whether `m` holds both `offset` and `asymmetry` with sliding shifts of
+/// opposite sign (`F0·a < 0`): the two then trade against each other, a
+/// larger `a` fitting the difference of the dips between the directions
+/// (`a·(Fs − Fc)`) while `F0` takes back what it adds in sliding, rather
+/// than two effects (version 8.6). On the development records every such
+/// pair was one effect: 3900085 and 3800048 (`asymmetry` hidden, fitted
+/// at 2.9 and 2.6 times its true `a` beside an `F0` of −0.66 and −0.61
+/// times `a·Fc`), 2900041 and 3100151 (`offset` hidden, with an
+/// `asymmetry` of −0.21 and −0.17 times `F0/Fc`). The one record where the
+/// workflow named both and both were hidden (the Maxwell-slip record
+/// 3200068) had them the same way round (`F0 = 0.62·a·Fc`). Of such a
+/// pair the effect whose refit without it is further from the data stays
+/// (on all four records the hidden one; the one named later, as without
+/// a dip, would have kept the wrong one on 3900085 and 3100151).
+pub fn shifts_oppose(m: &Model) -> bool {
+    match (m.effects.offset, m.effects.asymmetry) {
+        (Some(o), Some(a)) => o.f0 * a.a < 0.0,
+        _ => false,
+    }
+}
+
 /// Share of a step's gap within which the named effect and its
 /// [`look_alike`] count as fitting equally well.
 pub const TIE_SHARE: f64 = 0.005;
