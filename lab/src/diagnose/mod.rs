@@ -906,35 +906,31 @@ fn run(
     // later goes; with shifts that oppose each other ([`shifts_oppose`],
     // version 8.6) the one whose refit without it is further from the
     // data stays.
-    let both = [Effect::Offset, Effect::Asymmetry].map(|e| fit::has_effect(&model, e));
-    let no_dip = simplified && !fit::has_effect(&model, Effect::Stribeck);
-    let oppose = both == [true, true] && !no_dip && shifts_oppose(&model);
-    if both == [true, true] && (no_dip || oppose) {
-        let later = steps.iter().rposition(|s| look_alike(s.effect).is_some());
-        let goes = later.map(|k| {
-            let effect = steps[k].effect;
-            let refit = refit_without(&p, &model, effect);
+    let both = [Effect::Offset, Effect::Asymmetry]
+        .into_iter()
+        .all(|e| fit::has_effect(&model, e));
+    let no_dip = both && simplified && !fit::has_effect(&model, Effect::Stribeck);
+    let oppose = !no_dip && shifts_oppose(&model);
+    // The steps that may go, the later first (it goes on a tie).
+    let may_go = usize::from(no_dip) + 2 * usize::from(oppose);
+    let goes = (0..steps.len())
+        .rev()
+        .filter(|&k| look_alike(steps[k].effect).is_some())
+        .take(may_go)
+        .map(|k| {
+            let refit = refit_without(&p, &model, steps[k].effect);
             let fitted = held_rms(&p, &refit);
-            let other = look_alike(effect).filter(|_| oppose).and_then(|o| {
-                let k = steps.iter().position(|s| s.effect == o)?;
-                let refit = refit_without(&p, &model, o);
-                let fitted = held_rms(&p, &refit);
-                Some((k, refit, fitted))
-            });
-            match other {
-                Some((k_o, refit_o, fitted_o)) if fitted_o.0 < fitted.0 => (k_o, refit_o, fitted_o),
-                _ => (k, refit, fitted),
-            }
-        });
-        if let Some((k, refit, (w_rms, w_r))) = goes {
-            let effect = steps.remove(k).effect;
-            pruned.push((
-                effect,
-                residual::model_error(w_rms, floor),
-                residual::model_error(rms, floor),
-            ));
-            (model, rms, r) = (refit, w_rms, w_r);
-        }
+            (k, refit, fitted)
+        })
+        .min_by(|a, b| a.2 .0.total_cmp(&b.2 .0));
+    if let Some((k, refit, (w_rms, w_r))) = goes {
+        let effect = steps.remove(k).effect;
+        pruned.push((
+            effect,
+            residual::model_error(w_rms, floor),
+            residual::model_error(rms, floor),
+        ));
+        (model, rms, r) = (refit, w_rms, w_r);
     }
     // Each named effect was sound when its round took it, but the refits
     // beside later effects or without a dropped base part can run it
