@@ -834,6 +834,11 @@ pub const SMOKE_CASES: &[(u64, &str, &str)] = &[
         "suite",
         "`offset` and `asymmetry` whose sliding shifts oppose: one effect, version 8.6",
     ),
+    (
+        4_200_029,
+        "suite",
+        "a base fit that flattened its dip to Fs = Fc: the Stribeck restart of version 8.7",
+    ),
 ];
 
 #[cfg(test)]
