@@ -910,9 +910,14 @@ fn run(
         .into_iter()
         .all(|e| fit::has_effect(&model, e));
     let no_dip = both && simplified && !fit::has_effect(&model, Effect::Stribeck);
-    let oppose = !no_dip && shifts_oppose(&model);
-    // The steps that may go, the later first (it goes on a tie).
-    let may_go = usize::from(no_dip) + 2 * usize::from(oppose);
+    // How many of the two steps may go, the later first (it goes on a tie).
+    let may_go = if no_dip {
+        1
+    } else if shifts_oppose(&model) {
+        2
+    } else {
+        0
+    };
     let goes = (0..steps.len())
         .rev()
         .filter(|&k| look_alike(steps[k].effect).is_some())
@@ -1060,6 +1065,27 @@ mod tests {
 
     /// Pairs are of effects of the sliding curve F(v) only (version 7.3),
     /// never two look-alikes nor an effect and its nested special case.
+    #[test]
+    fn offset_and_asymmetry_oppose_only_with_shifts_of_opposite_sign() {
+        // The pairs of version 8.6's development records: 3900085 named
+        // F0 = −0.66·a·Fc beside `asymmetry` (one effect), 3200068
+        // F0 = 0.62·a·Fc (two hidden effects).
+        let pair = |f0_per_a_fc: f64| {
+            let mut m = base::fig5_model();
+            let a = 0.1;
+            m.effects.asymmetry = Some(Asymmetry { a });
+            m.effects.offset = Some(Offset {
+                f0: f0_per_a_fc * a * m.fc,
+            });
+            m
+        };
+        assert!(shifts_oppose(&pair(-0.66)));
+        assert!(!shifts_oppose(&pair(0.62)));
+        let mut alone = pair(-0.66);
+        alone.effects.asymmetry = None;
+        assert!(!shifts_oppose(&alone), "offset alone");
+    }
+
     #[test]
     fn pairs_are_of_sliding_curve_effects_only_without_look_alikes_or_nesting() {
         use Effect::*;
