@@ -129,6 +129,17 @@ pub fn params_of(m: &Model) -> Vec<Param> {
 /// Range of the fitted shape exponent δ (MODEL.md §2: typically 0.5 … 2).
 pub const DELTA_RANGE: (f64, f64) = (0.3, 4.0);
 
+/// Least mass a fit may reach [kg]: the force balance is linear in the
+/// mass, and a record whose accelerations do not resolve the inertia
+/// (slow sinusoids, creep) can run it to zero.
+pub const MASS_MIN: f64 = 1e-9;
+
+/// Whether `m`'s mass sits at [`MASS_MIN`]: the record did not identify
+/// the inertia, and the mass written is not a value of the axis.
+pub fn mass_at_bound(m: &Model) -> bool {
+    m.mass <= 2.0 * MASS_MIN
+}
+
 /// Largest `(Fs − Fc)/Fc` a fit may reach (a stiction level eleven times
 /// the Coulomb level is far outside what axes show; a fit that runs there
 /// has found no dip).
@@ -184,7 +195,7 @@ fn get(m: &Model, p: Param, sc: Scales) -> f64 {
 fn set(m: &mut Model, p: Param, th: f64, sc: Scales) {
     let e = &mut m.effects;
     match p {
-        Param::Mass => m.mass = th.max(1e-9),
+        Param::Mass => m.mass = th.max(MASS_MIN),
         Param::Fc => {
             let excess = m.fs - m.fc;
             m.fc = th.clamp(-200.0, 200.0).exp();

@@ -137,6 +137,18 @@ pub(super) fn low_speed(p: &Prepared) -> Option<f64> {
     (v.is_finite() && v > 0.0).then_some(v)
 }
 
+/// The median of [`speeds_above_rest`] [m/s] (1 mm/s without such
+/// samples): the speed at which a velocity-dependent term is read as a
+/// level.
+pub(super) fn typical_speed(p: &Prepared) -> f64 {
+    let v = quantile(&mut speeds_above_rest(p), 0.5);
+    if v.is_finite() && v > 0.0 {
+        v
+    } else {
+        1e-3
+    }
+}
+
 /// `m`, or the best of its shape [`restarts`] when that has the lower
 /// held-out RMS.
 pub(super) fn restart_dip(p: &Prepared, m: Model, show: &mut dyn FnMut(&str)) -> Model {

@@ -942,7 +942,9 @@ fn run(
     // degenerate (`nonlinear_viscous` to n = 1.001 beside `drift`). Such
     // an effect is dropped with its reason, and not reported as found;
     // `nonlinear_viscous` at n ≈ 1 is written as `viscous` (named in its
-    // place unless `viscous` is named already). The model is refitted. So
+    // place unless `viscous` is named already), and below n = 0.15 as a
+    // Coulomb level (version 8.8, [`nonlinear_viscous_as_coulomb`]). The
+    // model is refitted. So
     // too an effect the refits took out altogether (σ = 0 after the dip
     // at its bound was dropped: a named `viscous` with a gap twice the
     // start's on development record 2100079).
@@ -961,7 +963,14 @@ fn run(
             .flatten();
         let written = as_viscous.is_some();
         let viscous_named = steps.iter().any(|s| s.effect == Effect::Viscous);
-        let next = as_viscous.unwrap_or_else(|| remove_effect(&model, effect, &p));
+        // A second Coulomb level goes into the dry friction, not away.
+        let as_coulomb = (effect == Effect::NonlinearViscous)
+            .then(|| nonlinear_viscous_as_coulomb(&model, typical_speed(&p)))
+            .flatten();
+        let folded = as_coulomb.is_some();
+        let next = as_viscous
+            .or(as_coulomb)
+            .unwrap_or_else(|| remove_effect(&model, effect, &p));
         let params = fit::params_of(&next);
         model = fit::fit(&p, &next, &params, &FitOptions::default(), &mut |_| {}).model;
         (rms, r) = held_rms(&p, &model);
@@ -977,6 +986,9 @@ fn run(
         } else {
             let why = if written {
                 format!("{why}: merged into the named `viscous`")
+            } else if folded {
+                let after = residual::model_error(rms, floor);
+                format!("{why}: its force at the typical speed added to Fc and Fs, model error {before:.4e} N -> {after:.4e} N")
             } else {
                 why
             };
@@ -1206,6 +1218,29 @@ mod tests {
         assert!(nonlinear_viscous_degenerate(&with_n(1.05)).is_some());
         assert!(nonlinear_viscous_as_viscous(&with_n(1.0 + NV_VISCOUS_BAND)).is_none());
         assert!(nonlinear_viscous_as_viscous(&m).is_none());
+    }
+
+    /// `nonlinear_viscous` below n = 0.15 is written as dry friction: its
+    /// force at the typical speed, σ_n·v^n, added to Fc and Fs alike (the
+    /// dip kept), and the term gone; a velocity strengthening (n = 0.5) is
+    /// not.
+    #[test]
+    fn a_second_coulomb_level_is_written_into_the_dry_friction() {
+        let m = fig5_model();
+        let with_n = |n| {
+            let mut c = m.clone();
+            c.effects.nonlinear_viscous = Some(NonlinearViscous { sigma_n: 3.0, n });
+            c
+        };
+        let v_typ: f64 = 4e-3;
+        let level = 3.0 * v_typ.powf(0.1);
+        let c = nonlinear_viscous_as_coulomb(&with_n(0.1), v_typ).expect("n below the least");
+        assert!(nonlinear_viscous_degenerate(&with_n(0.1)).is_some());
+        assert!((c.fc - (m.fc + level)).abs() < 1e-12);
+        assert!((c.fs - c.fc - (m.fs - m.fc)).abs() < 1e-12);
+        assert_eq!(c.effects.nonlinear_viscous, None);
+        assert!(nonlinear_viscous_as_coulomb(&with_n(0.5), v_typ).is_none());
+        assert!(nonlinear_viscous_as_coulomb(&m, v_typ).is_none());
     }
 
     /// On a record of speed plateaus from 5 to 40 mm/s (5 to 40 V) whose

@@ -138,6 +138,7 @@ pub fn report_json(rep: &Report) -> String {
             })),
         },
         "valid_samples": rep.still.1,
+        "mass_identified": !fit::mass_at_bound(&rep.model),
         "dropped": rep.dropped.iter().map(|(n, why)| json!({"part": n.name(), "reason": why})).collect::<Vec<_>>(),
         "regions": rep.regions.iter().map(|r| json!({"regime": r.regime, "t_start": r.t_start, "t_end": r.t_end, "rms": r.rms})).collect::<Vec<_>>(),
         "regimes": rep.regimes.iter().map(|r| json!({"regime": r.regime, "n": r.n, "rms": r.rms})).collect::<Vec<_>>(),
@@ -216,6 +217,13 @@ pub fn report_text(rep: &Report, source: &str) -> String {
     }
     for (part, why) in &rep.dropped {
         let _ = writeln!(s, "not identifiable here, dropped: `{part}` ({why})");
+    }
+    if fit::mass_at_bound(&rep.model) {
+        let _ = writeln!(
+            s,
+            "not identifiable here: the mass ran to its lower limit ({:e} kg); the record's accelerations do not resolve the inertia, and the mass written below is not a value of the axis",
+            fit::MASS_MIN
+        );
     }
     if let Some(g) = rep.given {
         let _ = writeln!(

@@ -413,6 +413,31 @@ pub(super) fn nonlinear_viscous_as_viscous(m: &Model) -> Option<Model> {
     Some(c)
 }
 
+/// `m` with a `nonlinear_viscous` term below [`NV_MIN_EXPONENT`] (or at
+/// the lower bound of its exponent) written as dry friction: its force at
+/// the typical sliding speed `v_typ` [m/s], `σ_n·v_typ^n`, added to `Fc`
+/// and `Fs`; `None` when `m` holds no such term.
+///
+/// Such a term is a second Coulomb level, and a fit beside it may have
+/// handed it the whole dry friction: on development record 4500085
+/// (`nonlinear_viscous` at n = 1.72 hidden, a base with its dip at
+/// `Fs = 11·Fc` dropped) the refits ran it to n = 0.14 and `Fc` to
+/// 1e-87 N, and the model refitted without it from there kept `Fc` at
+/// zero (levels are fitted as logarithms) and was 17.4 N off against the
+/// start's 2.7 N.
+pub(super) fn nonlinear_viscous_as_coulomb(m: &Model, v_typ: f64) -> Option<Model> {
+    let nv = m
+        .effects
+        .nonlinear_viscous
+        .filter(|nv| nv.n < NV_MIN_EXPONENT || (nv.n / fit::NV_EXP_RANGE.0).ln().abs() < 0.02)?;
+    let level = nv.sigma_n * v_typ.powf(nv.n);
+    let mut c = m.clone();
+    c.fc += level;
+    c.fs += level;
+    c.effects.nonlinear_viscous = None;
+    Some(c)
+}
+
 /// The converse of [`nonlinear_viscous_as_viscous`]: `m`'s viscous
 /// friction written as `nonlinear_viscous` with n = 1 (`σ_n = σ`, `σ = 0`),
 /// the same force; a start from which the general form can leave n = 1.
