@@ -413,10 +413,11 @@ pub(super) fn nonlinear_viscous_as_viscous(m: &Model) -> Option<Model> {
     Some(c)
 }
 
-/// `m` with a `nonlinear_viscous` term below [`NV_MIN_EXPONENT`] (or at
-/// the lower bound of its exponent) written as dry friction: its force at
-/// the typical sliding speed `v_typ` [m/s], `σ_n·v_typ^n`, added to `Fc`
-/// and `Fs`; `None` when `m` holds no such term.
+/// `m` with a `nonlinear_viscous` term below [`NV_MIN_EXPONENT`] (the
+/// lower bound of [`fit::NV_EXP_RANGE`] among them) written as dry
+/// friction: its force at the typical sliding speed `v_typ` [m/s],
+/// `σ_n·v_typ^n`, added to `Fc` and `Fs`; `None` when `m` holds no such
+/// term.
 ///
 /// Such a term is a second Coulomb level, and a fit beside it may have
 /// handed it the whole dry friction: on development record 4500085
@@ -429,7 +430,7 @@ pub(super) fn nonlinear_viscous_as_coulomb(m: &Model, v_typ: f64) -> Option<Mode
     let nv = m
         .effects
         .nonlinear_viscous
-        .filter(|nv| nv.n < NV_MIN_EXPONENT || (nv.n / fit::NV_EXP_RANGE.0).ln().abs() < 0.02)?;
+        .filter(|nv| nv.n < NV_MIN_EXPONENT)?;
     let level = nv.sigma_n * v_typ.powf(nv.n);
     let mut c = m.clone();
     c.fc += level;
