@@ -133,7 +133,13 @@ fn speeds_above_rest(p: &Prepared) -> Vec<f64> {
 /// The 20 % quantile of [`speeds_above_rest`] [m/s] (`None` without
 /// such samples): where a Stribeck search starts.
 pub(super) fn low_speed(p: &Prepared) -> Option<f64> {
-    let v = quantile(&mut speeds_above_rest(p), 0.2);
+    speed_quantile(p, 0.2)
+}
+
+/// The `q` quantile of [`speeds_above_rest`] [m/s] (`None` without such
+/// samples).
+fn speed_quantile(p: &Prepared, q: f64) -> Option<f64> {
+    let v = quantile(&mut speeds_above_rest(p), q);
     (v.is_finite() && v > 0.0).then_some(v)
 }
 
@@ -141,12 +147,7 @@ pub(super) fn low_speed(p: &Prepared) -> Option<f64> {
 /// samples): the speed at which a velocity-dependent term is read as a
 /// level.
 pub(super) fn typical_speed(p: &Prepared) -> f64 {
-    let v = quantile(&mut speeds_above_rest(p), 0.5);
-    if v.is_finite() && v > 0.0 {
-        v
-    } else {
-        1e-3
-    }
+    speed_quantile(p, 0.5).unwrap_or(1e-3)
 }
 
 /// `m`, or the best of its shape [`restarts`] when that has the lower
