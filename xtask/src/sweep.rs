@@ -839,6 +839,11 @@ pub const SMOKE_CASES: &[(u64, &str, &str)] = &[
         "suite",
         "a base fit that flattened its dip to Fs = Fc: the Stribeck restart of version 8.7",
     ),
+    (
+        4_400_072,
+        "suite",
+        "a dwell threshold between the old grid's fractions of V: the `v_rest` grid of version 8.9",
+    ),
 ];
 
 #[cfg(test)]
