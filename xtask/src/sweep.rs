@@ -844,6 +844,11 @@ pub const SMOKE_CASES: &[(u64, &str, &str)] = &[
         "suite",
         "a dwell threshold between the old grid's fractions of V: the `v_rest` grid of version 8.9",
     ),
+    (
+        4_900_061,
+        "mixed",
+        "a ripple of three periods over the travel: the longer wavelengths of the ripple scan of version 9.0",
+    ),
 ];
 
 #[cfg(test)]

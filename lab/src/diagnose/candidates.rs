@@ -122,8 +122,10 @@ pub(super) fn regress_with_level(p: &Prepared, r: &[f64], s: &[f64]) -> (f64, f6
 /// The best wavelength of a spatial periodogram of `r` over moving samples:
 /// `(λ, A·cos φ, A·sin φ, explained fraction)`.
 ///
-/// A coarse scan of [`RIPPLE_SCAN_STEPS`] log-spaced wavelengths between
-/// 50 counts (or a 2000th of the travel) and a third of the travel, then a
+/// A coarse scan of log-spaced wavelengths, [`RIPPLE_SCAN_STEPS`] of them
+/// between 50 counts (or a 2000th of the travel) and a third of the travel
+/// of the moving training samples, and on in the same steps up to the whole
+/// travel over [`RIPPLE_MIN_PERIODS`], then a
 /// finer one ([`RIPPLE_REFINE_STEPS`] between the neighbours) around each
 /// of the [`RIPPLE_REFINE_PEAKS`] highest local maxima. A ripple of many
 /// periods over the travel is coherent only within `Δλ/λ ≈ λ/travel`,
@@ -148,10 +150,16 @@ pub fn ripple_scan(p: &Prepared, r: &[f64], filtered: bool) -> (f64, f64, f64, f
     let span = (hi - lo).max(1e-12);
     let total: f64 = idx.iter().map(|&i| p.weight[i] * r[i] * r[i]).sum();
     let lam_min = (50.0 * p.resolution).max(span / 2000.0);
-    let lam_max = span / 3.0;
-    if lam_max <= lam_min || total <= 0.0 {
+    // The grid's steps are set by a third of the moving training samples'
+    // span; beyond it the grid goes on in the same steps up to the travel
+    // over `RIPPLE_MIN_PERIODS`.
+    let lam_top = span / 3.0;
+    if lam_top <= lam_min || total <= 0.0 {
         return none;
     }
+    let log_step = (lam_top / lam_min).ln() / RIPPLE_SCAN_STEPS as f64;
+    let longer = (p.travel() / RIPPLE_MIN_PERIODS / lam_top).ln() / log_step;
+    let steps = RIPPLE_SCAN_STEPS + longer.ceil().max(0.0) as usize;
     // Least-squares fit of `c1·sin(kx) + c2·cos(kx)` at one wavelength.
     let at = |lam: f64| {
         let k = 2.0 * PI / lam;
@@ -184,10 +192,8 @@ pub fn ripple_scan(p: &Prepared, r: &[f64], filtered: bool) -> (f64, f64, f64, f
         let c2 = (rc * ss - rs * sc) / det;
         (lam, c1, c2, (c1 * rs + c2 * rc) / total)
     };
-    let grid = |s: f64| lam_min * (lam_max / lam_min).powf(s / RIPPLE_SCAN_STEPS as f64);
-    let coarse: Vec<(f64, f64, f64, f64)> = (0..=RIPPLE_SCAN_STEPS)
-        .map(|s| at(grid(s as f64)))
-        .collect();
+    let grid = |s: f64| lam_min * (lam_top / lam_min).powf(s / RIPPLE_SCAN_STEPS as f64);
+    let coarse: Vec<(f64, f64, f64, f64)> = (0..=steps).map(|s| at(grid(s as f64))).collect();
     let better = |a: &(f64, f64, f64, f64), b: &(f64, f64, f64, f64)| a.3 > b.3;
     let mut peaks: Vec<usize> = (0..coarse.len())
         .filter(|&s| {
@@ -202,7 +208,7 @@ pub fn ripple_scan(p: &Prepared, r: &[f64], filtered: bool) -> (f64, f64, f64, f
     for &s in peaks.iter().take(RIPPLE_REFINE_PEAKS) {
         for f in 1..RIPPLE_REFINE_STEPS {
             let u = s as f64 - 1.0 + 2.0 * f as f64 / RIPPLE_REFINE_STEPS as f64;
-            let c = at(grid(u.clamp(0.0, RIPPLE_SCAN_STEPS as f64)));
+            let c = at(grid(u.clamp(0.0, steps as f64)));
             if better(&c, &best) {
                 best = c;
             }
@@ -210,6 +216,23 @@ pub fn ripple_scan(p: &Prepared, r: &[f64], filtered: bool) -> (f64, f64, f64, f
     }
     best
 }
+
+/// Fewest periods over the whole travel ([`Prepared::travel`]) of a ripple
+/// that [`ripple_scan`] looks for: its longest wavelength is the travel
+/// over this.
+///
+/// A ripple needs about three periods to be told from a slow trend in
+/// position. Until version 9.0 the scan stopped at a third of the span of
+/// the moving training samples, which is shorter than the travel: on the
+/// slow sinusoid 4900061 (mixed draw 4900000–, scored with version 8.9;
+/// a ripple of 14 % of Fc, λ = 9.95 mm over 29.4 mm of travel) the
+/// longest wavelength scanned was below the true one, the scan seeded
+/// 6.2 mm and nothing was named. Scanning on to 2.5 periods of the whole
+/// travel, it seeds 9.95 mm and the ripple takes 95 % of the gap. The
+/// grid keeps its steps below a third of the span (stretching all 300 of
+/// them over the longer range lost the 0.56 mm ripple of the suite-like
+/// 4400012 between two coarse points).
+pub const RIPPLE_MIN_PERIODS: f64 = 2.5;
 
 /// Log-spaced wavelengths of [`ripple_scan`]'s coarse scan.
 pub const RIPPLE_SCAN_STEPS: usize = 300;

@@ -1140,6 +1140,22 @@ mod tests {
         assert!(explained > 0.99, "{explained}");
     }
 
+    /// A ripple of 2.8 periods over the travel (±30 mm) is within the
+    /// scan's range ([`RIPPLE_MIN_PERIODS`]) and found to 1 %.
+    #[test]
+    fn the_ripple_scan_reaches_three_periods_over_the_travel() {
+        let p = sinusoid(20_000, 30e-3, 0.5);
+        let lam = p.travel() / 2.8;
+        let r: Vec<f64> =
+            p.x.iter()
+                .map(|x| 0.5 * (2.0 * PI * x / lam + 0.3).sin())
+                .collect();
+        let (found, c1, c2, explained) = ripple_scan(&p, &r, false);
+        assert!((found / lam - 1.0).abs() < 0.01, "{found} for {lam}");
+        assert!((c1.hypot(c2) / 0.5 - 1.0).abs() < 0.05, "{c1} {c2}");
+        assert!(explained > 0.95, "{explained}");
+    }
+
     /// A dip at the top of its range is degenerate, a candidate that runs
     /// a dip there is held back (unless the current model's was there
     /// already), and `simplify` drops it even when it helps the fit.
