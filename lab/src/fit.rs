@@ -15,7 +15,7 @@ use crate::reference::{
     Asymmetry, Drift, DwellStiction, Effect, FrictionalLag, Model, NonlinearViscous, Offset,
     PositionRipple,
 };
-use crate::residual::Prepared;
+use crate::residual::{FixedColumn, Prepared};
 use rayon::prelude::*;
 use std::f64::consts::PI;
 
@@ -382,8 +382,15 @@ fn analytic_column(p: &Prepared, m: &Model, par: Param, idx: &[usize]) -> Option
     };
     match par {
         Param::Mass => Some(idx.iter().map(|&i| -p.weight[i].sqrt() * p.a[i]).collect()),
-        Param::Sigma => Some(col(&along(&|i| p.model_velocity(i)))),
-        Param::F0 => Some(col(&along(&|_| 1.0))),
+        Param::Sigma | Param::F0 => {
+            let which = if par == Param::Sigma {
+                FixedColumn::Velocity
+            } else {
+                FixedColumn::Moving
+            };
+            let f = p.fixed_column(which);
+            Some(idx.iter().map(|&i| -p.weight[i].sqrt() * f[i]).collect())
+        }
         Param::SigmaN => {
             let n = m.effects.nonlinear_viscous.map_or(0.5, |nv| nv.n);
             let pow = p.speed_pow(n);

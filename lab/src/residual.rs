@@ -41,6 +41,7 @@
 //! [`crate::fit`].
 
 use crate::reference::{decay_of_power, Friction, Model, SampleTerms};
+use std::f64::consts::PI;
 use std::sync::{Arc, Mutex};
 
 /// Rest threshold in counts per sample: `v_rest = 0.02·q/h`, i.e. a rest
@@ -380,6 +381,21 @@ struct TermCache {
     decay: Shapes<[u64; 2]>,
     speed_pow: Shapes<u64>,
     ln_speed: Mutex<Option<Arc<Vec<f64>>>>,
+    /// `sin(2π·x/λ + φ)` along the positions, by the bits of (λ, φ).
+    ripple_sin: Shapes<[u64; 2]>,
+    /// Training-side filtered series that no parameter changes (the
+    /// Jacobian columns of σ and F0, [`Prepared::fixed_column`]).
+    fixed: Shapes<FixedColumn>,
+}
+
+/// The per-sample series whose training-side filter
+/// [`Prepared::fixed_column`] keeps: they depend on the record alone.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FixedColumn {
+    /// The model velocity (`∂F/∂σ`).
+    Velocity,
+    /// 1 where the axis moves (`∂F/∂F0`).
+    Moving,
 }
 
 /// Per-sample series by the bits of their shape parameters, oldest first.
@@ -705,6 +721,8 @@ impl Prepared {
             self.held_out[i] = HELD_OUT.contains(&b.min(BLOCKS - 1));
             before += usize::from(counts);
         }
+        // The training runs changed.
+        self.terms.clear();
     }
 
     /// Speed/direction class of a sample (for the weights).
@@ -1134,12 +1152,22 @@ impl Prepared {
             })
         });
         let speed_pow = m.effects.nonlinear_viscous.map(|nv| self.speed_pow(nv.n));
+        let ripple_sin = m.effects.position_ripple.map(|r| {
+            let key = [r.wavelength.to_bits(), r.phase.to_bits()];
+            TermCache::get(&self.terms.ripple_sin, key, || {
+                self.x
+                    .iter()
+                    .map(|&x| (2.0 * PI * x / r.wavelength + r.phase).sin())
+                    .collect()
+            })
+        });
         let mut fr = Friction::new(m, self.t[0], self.x[0], self.model_velocity(0));
         for i in 0..self.len() {
             let terms = SampleTerms {
                 decay: decay.as_ref().map(|d| d[i]),
                 speed_pow: speed_pow.as_ref().map(|p| p[i]),
                 rest_speed: Some(self.rest_speed[i]),
+                ripple_sin: ripple_sin.as_ref().map(|r| r[i]),
             };
             fr.update_with(m, self.t[i], self.x[i], self.model_velocity(i), terms);
             f(i, &fr);
@@ -1341,6 +1369,23 @@ impl Prepared {
             self.filter_into(s, run, &mut acc);
         }
         acc
+    }
+
+    /// [`Prepared::filter_on`] of the series `which` on the training side
+    /// (0 at still samples, as [`Prepared::friction`]'s derivatives are),
+    /// kept until the still samples or the split change: a fit asks for
+    /// the same column at every iteration.
+    pub fn fixed_column(&self, which: FixedColumn) -> Arc<Vec<f64>> {
+        TermCache::get(&self.terms.fixed, which, || {
+            let s: Vec<f64> = (0..self.len())
+                .map(|i| match (self.still[i], which) {
+                    (true, _) => 0.0,
+                    (false, FixedColumn::Velocity) => self.model_velocity(i),
+                    (false, FixedColumn::Moving) => 1.0,
+                })
+                .collect();
+            self.filter_on(&s, false)
+        })
     }
 
     /// [`Prepared::residual`] on one side of the split only (see

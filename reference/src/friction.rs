@@ -49,6 +49,8 @@ pub struct SampleTerms {
     /// data, from the time the axis takes to cross an encoder count);
     /// `None`: `|v|`.
     pub rest_speed: Option<f64>,
+    /// `sin(2π·x/λ + φ)` of `position_ripple` at the sample's position.
+    pub ripple_sin: Option<f64>,
 }
 
 /// Friction force of the full §5 composition, with its memory.
@@ -64,6 +66,11 @@ pub struct Friction {
     rest_start: f64,
     t_d: f64,
     f: f64,
+    /// The lag filter's step `(h, τ_L)` and its coefficients
+    /// `(exp(−h/τ_L), (1 − exp(−h/τ_L))·τ_L/h)` for that step: the same
+    /// step at every sample of a uniformly sampled record (zeros before
+    /// the first: h and τ_L are positive).
+    lag_step: (f64, f64, f64, f64),
 }
 
 impl Friction {
@@ -85,6 +92,7 @@ impl Friction {
             rest_start: t0,
             t_d: 0.0,
             f: 0.0,
+            lag_step: (0.0, 0.0, 0.0, 0.0),
         }
     }
 
@@ -107,9 +115,14 @@ impl Friction {
             Some(lag) if !self.first => {
                 let h = t - self.t_prev;
                 if h > 0.0 {
-                    let r = h / lag.tau_l;
-                    let ex = (-r).exp();
-                    let phi = -(-r).exp_m1() / r; // (1 − e)·τ/h
+                    let (h0, tau0, _, _) = self.lag_step;
+                    if h != h0 || lag.tau_l != tau0 {
+                        let r = h / lag.tau_l;
+                        let ex = (-r).exp();
+                        let phi = -(-r).exp_m1() / r; // (1 − e)·τ/h
+                        self.lag_step = (h, lag.tau_l, ex, phi);
+                    }
+                    let (_, _, ex, phi) = self.lag_step;
                     self.v_l = ex * self.v_l + v - ex * self.v_prev - (v - self.v_prev) * phi;
                 }
             }
@@ -160,7 +173,10 @@ impl Friction {
             f += nv.sigma_n * v.signum() * speed_pow;
         }
         if let Some(r) = &e.position_ripple {
-            f += r.amplitude * (2.0 * PI * x / r.wavelength + r.phase).sin();
+            let sin = terms
+                .ripple_sin
+                .unwrap_or_else(|| (2.0 * PI * x / r.wavelength + r.phase).sin());
+            f += r.amplitude * sin;
         }
         self.f = f;
         f

@@ -355,7 +355,8 @@ fn frictional_lag_is_an_exact_first_order_filter() {
 }
 
 /// `update_with` given the terms of the model and the sample (the Stribeck
-/// decay, `|v|^n`) is `update` to the last bit, with and without a dip,
+/// decay, `|v|^n`, the ripple's sine) is `update` to the last bit, with and
+/// without a dip,
 /// with the effects that scale the levels, and with `frictional_lag`, whose
 /// lagged velocity makes the curve ignore a given decay.
 #[test]
@@ -367,6 +368,12 @@ fn update_with_its_own_terms_is_update() {
         sigma_n: 0.4,
         n: 0.6,
     });
+    let ripple = PositionRipple {
+        amplitude: 0.05,
+        wavelength: 3e-5,
+        phase: 0.4,
+    };
+    dip.effects.position_ripple = Some(ripple);
     let mut flat = dip.clone();
     flat.fs = flat.fc;
     let mut lag = dip.clone();
@@ -387,6 +394,9 @@ fn update_with_its_own_terms_is_update() {
                 decay: Some(decay),
                 speed_pow: Some(v.abs().powf(0.6)),
                 rest_speed: Some(v.abs()),
+                ripple_sin: Some(
+                    (2.0 * std::f64::consts::PI * x / ripple.wavelength + ripple.phase).sin(),
+                ),
             };
             let (a, b) = (
                 plain.update(&m, t, x, v),
