@@ -122,10 +122,12 @@ impl SteadyRecord {
         (s / n.max(1) as f64).sqrt()
     }
 
-    /// Noise of one reading [N] (N·m): the smallest of three spreads, each
-    /// of which the curve can only inflate where it lacks nothing —
-    /// [`SteadyRecord::curvature_noise`], [`SteadyRecord::mirrored_noise`]
-    /// and [`SteadyRecord::full_curve_noise`]. On the 130 steady-state
+    /// Noise of one reading [N] (N·m): the smallest of three spreads —
+    /// [`SteadyRecord::curvature_noise`] and
+    /// [`SteadyRecord::mirrored_noise`], which the curve can only inflate
+    /// (its curvature, an asymmetry), and
+    /// [`SteadyRecord::full_curve_noise`], the residual of the fullest
+    /// curve with its degrees of freedom counted. On the 130 steady-state
     /// records of the development seeds the first alone is 1.8× the
     /// generator's noise at the median (up to 16×). The smaller of the first
     /// two (version 9.0 and before) read 1.68× the generator's noise at the

@@ -33,10 +33,12 @@ use crate::model::Model;
 use crate::presliding::Presliding;
 use std::f64::consts::PI;
 
-/// Per-sample terms of [`Friction::update_with`]; `None`: computed. The
-/// first two depend only on the sample's velocity `v` [m/s] and the model's
-/// shape (a cache of them gives the same force); `rest_speed` is an input
-/// of its own, the speed estimate the `dwell_stiction` clock runs on.
+/// Per-sample terms of [`Friction::update_with`]; `None`: computed.
+/// `decay` and `speed_pow` depend only on the sample's velocity `v` [m/s]
+/// and the model's shape, `ripple_sin` only on its position `x` [m] and the
+/// ripple's wavelength and phase (a cache of them gives the same force);
+/// `rest_speed` is an input of its own, the speed estimate the
+/// `dwell_stiction` clock runs on.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct SampleTerms {
     /// The Stribeck decay `exp(−(|v|/V)^δ)` ([`stribeck_decay`]); not used
