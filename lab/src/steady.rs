@@ -123,11 +123,9 @@ impl SteadyRecord {
     }
 
     /// Noise of one reading [N] (N·m): the smallest of three spreads —
-    /// [`SteadyRecord::curvature_noise`] and
-    /// [`SteadyRecord::mirrored_noise`], which the curve can only inflate
-    /// (its curvature, an asymmetry), and
-    /// [`SteadyRecord::full_curve_noise`], the residual of the fullest
-    /// curve with its degrees of freedom counted. On the 130 steady-state
+    /// `curvature_noise` and `mirrored_noise`, which the curve can only
+    /// inflate (its curvature, an asymmetry), and `full_curve_noise`, the
+    /// residual of the fullest curve with its degrees of freedom counted. On the 130 steady-state
     /// records of the development seeds the first alone is 1.8× the
     /// generator's noise at the median (up to 16×). The smaller of the first
     /// two (version 9.0 and before) read 1.68× the generator's noise at the

@@ -435,14 +435,14 @@ pub(super) fn long_presliding(p: &Prepared, m: &Model) -> bool {
     fit::has_effect(m, Effect::Presliding) && m.z_max > LONG_PRESLIDING * p.travel()
 }
 
-/// Lowest fraction of the Stribeck velocity on [`dwell_starts`]'s grid of
+/// Lowest fraction of the Stribeck velocity on `dwell_starts`'s grid of
 /// `v_rest`.
 pub const V_REST_LOWEST: f64 = 0.015;
 
-/// Factor between neighbouring fractions on [`dwell_starts`]'s grid.
+/// Factor between neighbouring fractions on `dwell_starts`'s grid.
 pub const V_REST_STEP: f64 = 1.25;
 
-/// Fractions of the Stribeck velocity on [`dwell_starts`]'s grid:
+/// Fractions of the Stribeck velocity on `dwell_starts`'s grid:
 /// `V_REST_LOWEST·V_REST_STEP^k`, k = 0…12, from 0.015·V to 0.22·V
 /// (version 8.9). Version 8.8's three (0.02, 0.05, 0.15) left factors
 /// of 2.5 and 3 between neighbours, and the threshold is never moved
