@@ -134,8 +134,14 @@ impl SteadyRecord {
     /// 17 of them (a steep fall beside an asymmetry inflates both); with
     /// the third, 1.07× and on 1.
     pub fn noise(&self) -> f64 {
+        self.noise_from(&base(self))
+    }
+
+    /// [`SteadyRecord::noise`] with the record's base curve ([`base`])
+    /// given, as [`diagnose_steady`] has it already.
+    fn noise_from(&self, base: &Model) -> f64 {
         let curvature = self.curvature_noise();
-        let full = self.full_curve_noise().unwrap_or(f64::INFINITY);
+        let full = self.full_curve_noise(base).unwrap_or(f64::INFINITY);
         let pairs = self.mirrored_noise().unwrap_or(f64::INFINITY);
         curvature.min(pairs).min(full)
     }
@@ -190,12 +196,12 @@ impl SteadyRecord {
     }
 
     /// Noise of one reading [N] from the curve with every effect a
-    /// steady state can show (the base dip and all of
+    /// steady state can show (the base curve `base` with all of
     /// [`STEADY_CANDIDATES`], each added from its starts whatever its
     /// gain): `√(Σr²/(n − k))` over the `n` training points, `k` its free
     /// parameters; `None` with fewer than 3 degrees of freedom.
-    fn full_curve_noise(&self) -> Option<f64> {
-        let mut m = base(self);
+    fn full_curve_noise(&self, base: &Model) -> Option<f64> {
+        let mut m = base.clone();
         for effect in STEADY_CANDIDATES {
             let best = with_effect(&m, effect, self)
                 .iter()
@@ -499,8 +505,8 @@ fn without_stribeck(rec: &SteadyRecord, m: &Model) -> Model {
 /// One forward pass of the name → add → shrink loop from `model`, over the
 /// `allowed` effects: the accepted steps, the last round's candidates and
 /// the final model.
-fn select(rec: &SteadyRecord, mut model: Model, allowed: &[Effect]) -> Selection {
-    let noise = rec.noise();
+/// `noise` is the record's [`SteadyRecord::noise`].
+fn select(rec: &SteadyRecord, mut model: Model, allowed: &[Effect], noise: f64) -> Selection {
     let bic = |rms: f64, k: usize| held_bic(rec, rms, k);
     let mut rms = rec.rms(&model, true);
     let mut steps = Vec::new();
@@ -612,16 +618,17 @@ pub fn diagnose_steady(rec: &SteadyRecord, candidates: &[Effect]) -> SteadyRepor
         .filter(|e| candidates.is_empty() || candidates.contains(e))
         .collect();
     let full = base(rec);
+    let noise = rec.noise_from(&full);
     let bic = |m: &Model| held_bic(rec, rec.rms(m, true), params_of(m).len());
     let (start, sel, dropped) = match degenerate(&full, Effect::Stribeck) {
         None => {
-            let sel = select(rec, full.clone(), &allowed);
+            let sel = select(rec, full.clone(), &allowed, noise);
             (full, sel, Vec::new())
         }
         Some(why) => {
             let first = without_stribeck(rec, &full);
-            let a = select(rec, first.clone(), &allowed);
-            let mut b = select(rec, full.clone(), &allowed);
+            let a = select(rec, first.clone(), &allowed, noise);
+            let mut b = select(rec, full.clone(), &allowed, noise);
             let mut dropped_b = Vec::new();
             if let Some(why_b) = degenerate(&b.model, Effect::Stribeck) {
                 b.model = without_stribeck(rec, &b.model);
@@ -644,7 +651,7 @@ pub fn diagnose_steady(rec: &SteadyRecord, candidates: &[Effect]) -> SteadyRepor
         pruned: sel.pruned,
         dropped,
         model: sel.model,
-        noise: rec.noise(),
+        noise,
     }
 }
 
@@ -829,7 +836,7 @@ mod tests {
         let rec = SteadyRecord::new(points);
         let noise = rec.noise();
         assert!((0.7 * sigma..1.3 * sigma).contains(&noise), "{noise}");
-        let full = rec.full_curve_noise().expect("enough points");
+        let full = rec.full_curve_noise(&base(&rec)).expect("enough points");
         assert_eq!(noise, full, "the smallest of the three spreads");
         let pairs = rec.mirrored_noise().expect("mirrored speeds");
         let curvature = rec.curvature_noise();
