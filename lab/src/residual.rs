@@ -721,8 +721,6 @@ impl Prepared {
             self.held_out[i] = HELD_OUT.contains(&b.min(BLOCKS - 1));
             before += usize::from(counts);
         }
-        // The training runs changed.
-        self.terms.clear();
     }
 
     /// Speed/direction class of a sample (for the weights).
@@ -1373,8 +1371,9 @@ impl Prepared {
 
     /// [`Prepared::filter_on`] of the series `which` on the training side
     /// (0 at still samples, as [`Prepared::friction`]'s derivatives are),
-    /// kept until the still samples or the split change: a fit asks for
-    /// the same column at every iteration.
+    /// kept until the still samples change ([`Prepared::mark_stops`]; the
+    /// split is set once, when the record is prepared): a fit asks for the
+    /// same column at every iteration.
     pub fn fixed_column(&self, which: FixedColumn) -> Arc<Vec<f64>> {
         TermCache::get(&self.terms.fixed, which, || {
             let s: Vec<f64> = (0..self.len())
