@@ -1156,6 +1156,25 @@ mod tests {
         assert!(explained > 0.95, "{explained}");
     }
 
+    /// A ripple longer than the travel is degenerate (a trend in position),
+    /// one of three periods over it is not.
+    #[test]
+    fn a_ripple_longer_than_the_travel_is_degenerate() {
+        let p = sinusoid(20_000, 30e-3, 0.5);
+        let with = |wavelength: f64| {
+            let mut m = fig5_model();
+            m.effects.position_ripple = Some(PositionRipple {
+                amplitude: 0.1,
+                wavelength,
+                phase: 0.0,
+            });
+            degenerate(&p, &m, Effect::PositionRipple)
+        };
+        assert!(with(p.travel() / 3.0).is_none());
+        let why = with(1.2 * p.travel()).expect("a trend, not a ripple");
+        assert!(why.contains("longer than the travel"), "{why}");
+    }
+
     /// A dip at the top of its range is degenerate, a candidate that runs
     /// a dip there is held back (unless the current model's was there
     /// already), and `simplify` drops it even when it helps the fit.
