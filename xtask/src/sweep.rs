@@ -849,6 +849,11 @@ pub const SMOKE_CASES: &[(u64, &str, &str)] = &[
         "mixed",
         "a ripple of three periods over the travel: the longer wavelengths of the ripple scan of version 9.0",
     ),
+    (
+        4_800_006,
+        "suite",
+        "a presliding distance first fitted into a local minimum: presliding fitted again before the candidates, version 9.2",
+    ),
 ];
 
 #[cfg(test)]

@@ -234,6 +234,10 @@ pub struct Report {
     /// (e.g. `stribeck`: V at its bound; `nonlinear_viscous` at n ≈ 1,
     /// written as `viscous`).
     pub dropped: Vec<(Effect, String)>,
+    /// Why the base's presliding part was fitted again before the
+    /// candidates (first fitted into a local minimum), with the held-out
+    /// figures; `None` when it was not ([`BaseFix`]).
+    pub base_refit: Option<String>,
     /// Accepted steps.
     pub steps: Vec<Step>,
     /// The last round's candidates (none accepted).
@@ -614,12 +618,22 @@ fn run(
     // Whether a round restarted the Stribeck shape after a step: the
     // step's choice among look-alikes was then made on another base.
     let mut reshaped = false;
+    let mut base_refit = None;
     if start.is_none() && judged {
-        let (better, harmful) = drop_harmful(&p, model.clone(), &mut show);
-        if !harmful.is_empty() {
-            model = better;
+        let fixed = match drop_harmful(&p, &model, &mut show) {
+            BaseFix::Kept => None,
+            BaseFix::Refitted(m, why) => {
+                base_refit = Some(why);
+                Some(m)
+            }
+            BaseFix::Dropped(m, why) => {
+                dropped.push((Effect::Presliding, why));
+                Some(m)
+            }
+        };
+        if let Some(m) = fixed {
+            model = m;
             (rms, r) = held_rms(&p, &model);
-            dropped.extend(harmful);
         }
     }
     for round in 0..rounds {
@@ -1027,6 +1041,7 @@ fn run(
         moving_held_out,
         judged,
         dropped,
+        base_refit,
         steps,
         last_round,
         regions,

@@ -139,6 +139,7 @@ pub fn report_json(rep: &Report) -> String {
         },
         "valid_samples": rep.still.1,
         "mass_identified": !fit::mass_at_bound(&rep.model),
+        "base_refit": rep.base_refit,
         "dropped": rep.dropped.iter().map(|(n, why)| json!({"part": n.name(), "reason": why})).collect::<Vec<_>>(),
         "regions": rep.regions.iter().map(|r| json!({"regime": r.regime, "t_start": r.t_start, "t_end": r.t_end, "rms": r.rms})).collect::<Vec<_>>(),
         "regimes": rep.regimes.iter().map(|r| json!({"regime": r.regime, "n": r.n, "rms": r.rms})).collect::<Vec<_>>(),
@@ -217,6 +218,9 @@ pub fn report_text(rep: &Report, source: &str) -> String {
     }
     for (part, why) in &rep.dropped {
         let _ = writeln!(s, "not identifiable here, dropped: `{part}` ({why})");
+    }
+    if let Some(why) = &rep.base_refit {
+        let _ = writeln!(s, "presliding first fitted into a local minimum, fitted again before the candidates: {why}");
     }
     if fit::mass_at_bound(&rep.model) {
         let _ = writeln!(
