@@ -339,7 +339,8 @@ pub(super) fn drop_harmful(p: &Prepared, m: &Model, progress: &mut dyn FnMut(&st
     if without_rms >= (1.0 - HARMFUL_GAIN) * with_rms {
         return BaseFix::Kept;
     }
-    let figures = format!("held-out rms {with_rms:.4e} N as first fitted, {without_rms:.4e} N without it");
+    let figures =
+        format!("held-out rms {with_rms:.4e} N as first fitted, {without_rms:.4e} N without it");
     progress("presliding fitted again");
     match presliding_again(p, &refit) {
         Some((again, rms)) if rms < without_rms => BaseFix::Refitted(

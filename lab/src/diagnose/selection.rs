@@ -407,9 +407,10 @@ pub fn degenerate(p: &Prepared, m: &Model, effect: Effect) -> Option<String> {
 /// 5300000–, version 9.1) to 5.9 travels, named; on the suite-like
 /// 4800023 (`asymmetry` hidden) to 65 travels, the ripple's near-constant
 /// `A·sin φ` standing in for the shift `a·Fc`, named in its place. The
-/// other 528 ripples named in the reports kept from the draws 4100000– to
-/// 5300000– (all versions) are at most 0.36 travels long (the generator
-/// puts three periods or more over the travel).
+/// other 509 ripples in the reports kept from the draws 4100000– to
+/// 5300000– (several versions' reports of the same records among them)
+/// are at most 0.36 travels long (the generator puts three periods or
+/// more over the travel).
 pub const RIPPLE_MAX_TRAVELS: f64 = 1.0;
 
 /// Smallest exponent `n` for which `nonlinear_viscous` is a finding:
