@@ -62,8 +62,9 @@ pub fn initial_base(p: &Prepared, progress: &mut dyn FnMut(&str)) -> Model {
     fit::fit(p, &start, &params, &FitOptions::default(), &mut |_| {}).model
 }
 
-/// The base grid's presliding distances [encoder counts].
-const BASE_GRID_COUNTS: [f64; 4] = [10.0, 40.0, 160.0, 640.0];
+/// The base grid's presliding distances [encoder counts] (also the
+/// starts of a `presliding` candidate and of [`presliding_again`]).
+pub(super) const BASE_GRID_COUNTS: [f64; 4] = [10.0, 40.0, 160.0, 640.0];
 
 /// The base model identified from the data (a refit once with error
 /// weights), with the record's error weights set from it. Without a given

@@ -355,7 +355,7 @@ pub(super) fn candidate_starts(p: &Prepared, m: &Model, effect: Effect, r: &[f64
             }
         }
         Effect::Presliding => {
-            for zf in [10.0, 40.0, 160.0, 640.0] {
+            for zf in BASE_GRID_COUNTS {
                 out.push(with(&|c| c.z_max = zf * p.resolution));
             }
         }
