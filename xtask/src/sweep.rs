@@ -854,6 +854,11 @@ pub const SMOKE_CASES: &[(u64, &str, &str)] = &[
         "suite",
         "a presliding distance first fitted into a local minimum: presliding fitted again before the candidates, version 9.2",
     ),
+    (
+        5_500_081,
+        "mixed",
+        "a lag of 0.2 s that hid the Stribeck dip from the base fit: the lag's starts from the typical speed and without a dip, version 9.3",
+    ),
 ];
 
 #[cfg(test)]

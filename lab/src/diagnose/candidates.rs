@@ -313,31 +313,35 @@ pub(super) fn candidate_starts(p: &Prepared, m: &Model, effect: Effect, r: &[f64
         Effect::DwellStiction => out.extend(dwell_starts(p, m, r)),
         Effect::FrictionalLag => {
             // Lag and the Stribeck shape trade off (a base model fitted
-            // without lag bends V, δ to mimic it), so the shape restarts too.
-            // It may even have dropped the Stribeck dip (V → 0): restart
-            // it from the data's low speeds as the base model's grid does.
-            // Without a dip at all (Fs = Fc) the lag has nothing to act on:
-            // one restart, at Fs = 1.4·Fc and τ_L = 30 ms (three cost EMPS,
-            // which has no dip, a tenth of its time).
+            // without lag bends V, δ to mimic it), so the shape restarts
+            // too: from the data's low speeds, as the base model's grid
+            // does, and from their typical speed, where a lagged curve
+            // shows its dip (the axis is already fast while the lagged
+            // velocity is still low). Every start is tried on a base
+            // without a dip too (Fs = Fc, at 1.4·Fc): a long lag is what
+            // hides the dip from a fit without it (version 9.3; before, one
+            // start at τ_L = 30 ms there and none from the typical speed).
             let v_lo = low_speed(p).unwrap_or(m.v_stribeck);
+            let v_mid = typical_speed(p);
             let dip = fit::has_effect(m, Effect::Stribeck);
-            let taus: &[f64] = if dip { &[0.01, 0.03, 0.1] } else { &[0.03] };
-            for &tau_l in taus {
+            for tau_l in LAG_STARTS {
                 if dip {
                     out.push(with(&|c| {
                         c.effects.frictional_lag = Some(FrictionalLag { tau_l })
                     }));
                 }
-                out.push(with(&|c| {
-                    c.effects.frictional_lag = Some(FrictionalLag { tau_l });
-                    c.delta = 2.0;
-                    c.v_stribeck = v_lo;
-                    c.fs = if dip {
-                        c.fs.clamp(1.1 * c.fc, 2.0 * c.fc)
-                    } else {
-                        1.4 * c.fc
-                    };
-                }));
+                for v_s in [v_lo, v_mid] {
+                    out.push(with(&|c| {
+                        c.effects.frictional_lag = Some(FrictionalLag { tau_l });
+                        c.delta = 2.0;
+                        c.v_stribeck = v_s;
+                        c.fs = if dip {
+                            c.fs.clamp(1.1 * c.fc, 2.0 * c.fc)
+                        } else {
+                            1.4 * c.fc
+                        };
+                    }));
+                }
             }
         }
         Effect::Drift => {
@@ -417,6 +421,9 @@ pub(super) fn candidate_starts(p: &Prepared, m: &Model, effect: Effect, r: &[f64
     out.retain(|c| c.validate().is_ok());
     out
 }
+
+/// Lag time constants [s] a `frictional_lag` candidate starts from.
+const LAG_STARTS: [f64; 3] = [0.01, 0.03, 0.1];
 
 /// Share of the record's position range beyond which a fitted presliding
 /// distance is suspect: true ones are micrometres against millimetres of
