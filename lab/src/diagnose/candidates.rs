@@ -317,10 +317,11 @@ pub(super) fn candidate_starts(p: &Prepared, m: &Model, effect: Effect, r: &[f64
             // too: from the data's low speeds, as the base model's grid
             // does, and from their typical speed, where a lagged curve
             // shows its dip (the axis is already fast while the lagged
-            // velocity is still low). Every start is tried on a base
-            // without a dip too (Fs = Fc, at 1.4·Fc): a long lag is what
-            // hides the dip from a fit without it (version 9.3; before, one
-            // start at τ_L = 30 ms there and none from the typical speed).
+            // velocity is still low). On a base without a dip (Fs = Fc)
+            // every start seeds one at Fs = 1.4·Fc: a long lag is what
+            // hides the dip from a fit without it (version 9.3; before,
+            // one start at τ_L = 30 ms there, and none from the typical
+            // speed anywhere).
             let v_lo = low_speed(p).unwrap_or(m.v_stribeck);
             let v_mid = typical_speed(p);
             let dip = fit::has_effect(m, Effect::Stribeck);
