@@ -52,17 +52,18 @@ pub use selection::*;
 /// Most effects added.
 pub const MAX_ROUNDS: usize = 4;
 
-/// Fewest moving samples in each held-out block, in force-kernel widths
-/// (`2·K + 1` samples): a held-out figure over less motion than that
+/// Fewest moving samples in the held-out blocks together, in force-kernel
+/// widths (`2·K + 1` samples): a held-out figure over less motion than that
 /// compares almost nothing (the residual of one window is one filtered
 /// value), so such a record is reported as too still to judge and no
-/// effect is named on it.
-pub const MIN_HELD_OUT_WINDOWS: usize = 1;
+/// effect is named on it. (Until version 9.3, one window in each of the
+/// three held-out blocks; the same total since the split holds ten.)
+pub const MIN_HELD_OUT_WINDOWS: usize = 3;
 
 /// Fewest moving samples in the held-out blocks for a record to be judged,
 /// with force-kernel half-width `kf` ([`MIN_HELD_OUT_WINDOWS`]).
 pub fn min_moving_held_out(kf: usize) -> usize {
-    residual::HELD_OUT.len() * MIN_HELD_OUT_WINDOWS * (2 * kf + 1)
+    MIN_HELD_OUT_WINDOWS * (2 * kf + 1)
 }
 
 /// Options of the workflow.
@@ -271,7 +272,7 @@ pub struct Report {
 }
 
 /// What the residual is, for reports.
-pub const METRIC: &str = "model error [N]: sqrt(rms^2 - floor^2), rms the held-out weighted RMS of the force residual along the measured motion, r = W*(u - F(t, x, v_hat)) - m*a_hat (Savitzky-Golay v_hat, a_hat; W the matching force kernel), floor the part that force noise and encoder resolution explain; still samples (position within one count over the window) are the measured force, re-anchor the presliding memory and carry no weight; where the first pass leaves more than half of the gap and at least 5 % of the moving samples lie within the kernel of a burst (count increments over the velocity window scattering about their quadratic trend by at least 1.5 counts rms and half their mean: stick-slip faster than the sampling), a second pass gives those no weight (walked, not re-anchored) and is reported if it halves its own gap; moving samples slower than one count per sample are weighted with the variance of the whole hysteresis range (2*max(Fs, Fc), a reversal smaller than a count may hide between samples), the floor counts that range only as far as the start model's residual shows it there (its 99th-percentile difference 2K+1 samples apart), and is lowered to the first round's lowest candidate held-out rms where that lies below it; weights (speed/direction class x noise/resolution variance) fixed from the start model; blocks 2, 5, 8 of 10 held out (consecutive blocks with equal numbers of moving samples)";
+pub const METRIC: &str = "model error [N]: sqrt(rms^2 - floor^2), rms the held-out weighted RMS of the force residual along the measured motion, r = W*(u - F(t, x, v_hat)) - m*a_hat (Savitzky-Golay v_hat, a_hat; W the matching force kernel), floor the part that force noise and encoder resolution explain; still samples (position within one count over the window) are the measured force, re-anchor the presliding memory and carry no weight; where the first pass leaves more than half of the gap and at least 5 % of the moving samples lie within the kernel of a burst (count increments over the velocity window scattering about their quadratic trend by at least 1.5 counts rms and half their mean: stick-slip faster than the sampling), a second pass gives those no weight (walked, not re-anchored) and is reported if it halves its own gap; moving samples slower than one count per sample are weighted with the variance of the whole hysteresis range (2*max(Fs, Fc), a reversal smaller than a count may hide between samples), the floor counts that range only as far as the start model's residual shows it there (its 99th-percentile difference 2K+1 samples apart), and is lowered to the first round's lowest candidate held-out rms where that lies below it; weights (speed/direction class x noise/resolution variance) fixed from the start model; every third of 30 blocks held out (blocks 2, 5, ..., 29: consecutive blocks with equal numbers of moving samples)";
 
 /// Replaces `step`'s effect by `to`, with `m` the model after it, and
 /// records the swap with the model errors before and after [N] (the swap

@@ -181,7 +181,7 @@ pub fn report_text(rep: &Report, source: &str) -> String {
         short(rep.resolution, 3),
         rep.half_width
     );
-    let _ = writeln!(s, "residual: force along the measured motion (MODEL.md §8: compared locally), held-out blocks 2, 5, 8 of 10 (consecutive, equal numbers of moving samples)");
+    let _ = writeln!(s, "residual: force along the measured motion (MODEL.md §8: compared locally), held-out blocks 2, 5, ..., 29 of 30 (every third; consecutive blocks with equal numbers of moving samples)");
     let _ = writeln!(
         s,
         "measurement floor: {} N of the held-out rms is force noise (σ0 = {} N) and encoder resolution; {} of {} samples are still (friction = measured force, not scored); figures below are model error above that floor",
@@ -348,7 +348,7 @@ pub fn report_text(rep: &Report, source: &str) -> String {
     if !rep.judged {
         let _ = writeln!(
             s,
-            "too still to judge: {} moving samples in the held-out blocks (fewer than {}: {} force window(s) of motion per held-out block), so no effect is named; a record with more motion is needed",
+            "too still to judge: {} moving samples in the held-out blocks (fewer than {}: {} force windows of motion), so no effect is named; a record with more motion is needed",
             rep.moving_held_out,
             min_moving_held_out(rep.half_width),
             MIN_HELD_OUT_WINDOWS
