@@ -717,11 +717,12 @@ impl Prepared {
 
     /// Cuts the record into [`BLOCKS`] consecutive blocks that hold equal
     /// numbers of scored samples (valid and not window-still) and holds out
-    /// every [`HELD_OUT_EVERY`]th ([`held_out_block`]). Equal time blocks would let a record that rests most
-    /// of the time (a sinusoidal force mostly below break-away, a servo
-    /// that holds for seconds) put none of its motion into the held-out
-    /// blocks, and every figure would then compare nothing. With fewer
-    /// scored samples than blocks the cut falls back to equal time.
+    /// every [`HELD_OUT_EVERY`]th ([`held_out_block`]). Equal time blocks
+    /// would let a record that rests most of the time (a sinusoidal force
+    /// mostly below break-away, a servo that holds for seconds) put none
+    /// of its motion into the held-out blocks, and every figure would then
+    /// compare nothing. With fewer scored samples than blocks the cut falls
+    /// back to equal time.
     fn set_split(&mut self) {
         let n = self.len();
         let valid = self.valid();
@@ -1497,9 +1498,9 @@ pub(crate) mod tests {
 
     /// A record that rests for its first 80 % and moves only in its last
     /// fifth: equal time blocks would hold out eight blocks of rest (2, 5,
-    /// …, 23) and only two of the motion; the split by scored samples holds out a third of
-    /// the motion, in ten runs (the last block held out), and no training
-    /// block is empty of it.
+    /// …, 23) and only two of the motion; the split by scored samples
+    /// holds out a third of the motion, in ten runs (the last block held
+    /// out), and no training block is empty of it.
     #[test]
     fn split_holds_out_a_share_of_the_motion() {
         let (n, q) = (10_000, 1e-6);
