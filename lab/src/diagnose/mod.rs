@@ -408,6 +408,47 @@ fn nonlinear_from_viscous(p: &Prepared, base: &Model, fits: &mut Vec<Option<(Eff
     }
 }
 
+/// Exponents from which [`nonlinear_in_place_of_viscous`] starts
+/// `nonlinear_viscous` on a final model that names `viscous`.
+pub const NV_RESEED_EXPONENTS: [f64; 4] = [0.5, 0.75, 1.5, 2.0];
+
+/// `final_model` (which names `viscous`) with `nonlinear_viscous` in its
+/// place, refitted from the final model's base (every other parameter as
+/// it stands) with the exponents of [`NV_RESEED_EXPONENTS`] and `σ_n` such
+/// that `σ_n·v_t^n = σ·v_t` at the record's typical speed `v_t`; the best
+/// sound fit (see [`fit_multistart`]), or `None`.
+///
+/// The round that took `viscous` fitted `nonlinear_viscous` on the round's
+/// base, and from its `viscous` fit (`n = 1`, [`nonlinear_from_viscous`]),
+/// but the levels and the dip move with later steps and refits, and in
+/// `n` the fit has local minima a start at `n = 1` does not leave: on the
+/// slow sinusoid 5900100 (`nonlinear_viscous` hidden, n = 1.49; mixed draw
+/// 5900000–, scored with version 9.4) the final `viscous` model read
+/// 0.036 N model error, its `nonlinear_viscous` refit from n = 1 stayed at
+/// n = 1.00, from n = 1.2 stopped at 1.20 (0.028 N held-out), from
+/// n = 1.5 went to n = 1.48 and the floor (Fc 22.5 N against the true
+/// 22.6, where the `viscous` model had 18.9).
+fn nonlinear_in_place_of_viscous(p: &Prepared, final_model: &Model) -> Option<Model> {
+    let v_t = typical_speed(p).max(1e-12);
+    let mut base = final_model.clone();
+    base.sigma = 0.0;
+    let starts: Vec<Model> = NV_RESEED_EXPONENTS
+        .into_iter()
+        .map(|n| {
+            let mut c = base.clone();
+            c.effects.nonlinear_viscous = Some(NonlinearViscous {
+                sigma_n: final_model.sigma * v_t / v_t.powf(n),
+                n,
+            });
+            c
+        })
+        .collect();
+    let effect = Effect::NonlinearViscous;
+    let sound = |m: &Model| sound_fit(p, final_model, m, effect) && fit::has_effect(m, effect);
+    let fitted = fit_multistart(p, &starts, &sound, &mut |_| {});
+    sound(&fitted).then_some(fitted)
+}
+
 /// Whether `fitted` (with `effect`) may be a candidate at all.
 fn admissible(p: &Prepared, fitted: &Model, effect: Effect) -> bool {
     // Dwell *time* stiction must make the break-away depend on the rest
@@ -842,19 +883,31 @@ fn run(
             let base = refit_without(&p, &model, effect);
             let base_r = p.residual(&base);
             let bic_cur = bic(&p, rms, fit::params_of(&model).len());
-            let fits: Vec<Option<(f64, Effect, Model)>> = alts
+            let fits: Vec<Option<(f64, f64, Effect, Model)>> = alts
                 .par_iter()
                 .map(|&alt| {
                     let fitted = fit_candidate(&p, &base, &base_r, alt)
                         .filter(|m| sound_fit(&p, &base, m, alt))?;
                     let a_rms = held_rms(&p, &fitted).0;
                     let b = bic(&p, a_rms, fit::params_of(&fitted).len());
-                    Some((b, alt, fitted))
+                    Some((b, a_rms, alt, fitted))
                 })
                 .collect();
+            // Between `viscous` and `nonlinear_viscous` the rule of their
+            // round decides ([`nested_prefers`]), not the BIC alone: on
+            // the suite-like 6000102 (`viscous` hidden; draw 6000000–,
+            // version 9.4) this pass took `nonlinear_viscous` for a model
+            // error 5 % below `viscous`'s, where its round had kept
+            // `viscous`.
+            let error = |x: f64| residual::model_error(x, floor);
             let mut best: Option<(f64, Effect, Model)> = None;
-            for (b, alt, fitted) in fits.into_iter().flatten() {
-                if b < bic_cur && best.as_ref().is_none_or(|(bb, _, _)| b < *bb) {
+            for (b, a_rms, alt, fitted) in fits.into_iter().flatten() {
+                let better = if nested(effect, alt) {
+                    nested_prefers(alt, error(a_rms), error(rms))
+                } else {
+                    b < bic_cur
+                };
+                if better && best.as_ref().is_none_or(|(bb, _, _)| b < *bb) {
                     best = Some((b, alt, fitted));
                 }
             }
@@ -865,6 +918,29 @@ fn run(
                 model = m;
                 rms = new_rms;
                 r = new_r;
+            }
+        }
+    }
+    // `viscous` is `nonlinear_viscous` at n = 1: with the other steps in
+    // place, the general form is fitted again from the final model (see
+    // [`nonlinear_in_place_of_viscous`]) and taken by the rule its round
+    // uses ([`nested_prefers`]) with a lower held-out BIC.
+    if !fit::has_effect(&model, Effect::NonlinearViscous) && allowed(Effect::NonlinearViscous) {
+        if let Some(step) = steps.iter_mut().find(|s| s.effect == Effect::Viscous) {
+            show("nested check: viscous");
+            if let Some(m) = nonlinear_in_place_of_viscous(&p, &model) {
+                let (new_rms, new_r) = held_rms(&p, &m);
+                let errors = [rms, new_rms].map(|x| residual::model_error(x, floor));
+                let bic_cur = bic(&p, rms, fit::params_of(&model).len());
+                let bic_new = bic(&p, new_rms, fit::params_of(&m).len());
+                if nested_prefers(Effect::NonlinearViscous, errors[1], errors[0])
+                    && bic_new < bic_cur
+                {
+                    swap_step(step, Effect::NonlinearViscous, &m, errors, &mut swapped);
+                    model = m;
+                    rms = new_rms;
+                    r = new_r;
+                }
             }
         }
     }
@@ -1294,20 +1370,15 @@ mod tests {
         assert!(nonlinear_viscous_as_coulomb(&m, v_typ).is_none());
     }
 
-    /// On a record of speed plateaus from 5 to 40 mm/s (5 to 40 V) whose
-    /// velocity strengthening is `nonlinear_viscous` with n = 0.5 (the
-    /// force computed along the measured motion), the general form fitted
-    /// from the fitted `viscous` candidate ends sound and takes the place
-    /// of a `nonlinear_viscous` fit stuck at n = 1.8, at less than half its
-    /// held-out rms.
-    #[test]
-    fn the_general_viscous_form_is_fitted_from_the_special_one() {
+    /// Speed plateaus from 5 to 40 mm/s (first-order transitions of
+    /// 10 ms) over 2 s, quantised to 1 µm, with the force of `truth` along
+    /// the measured motion (the lab's own walk: an in-model record).
+    fn plateau_record(truth: &Model) -> Prepared {
         let plateaus = [5e-3, -10e-3, 20e-3, -40e-3, 40e-3, -20e-3, 10e-3, -5e-3];
         let t: Vec<f64> = (0..2000).map(|i| i as f64 * 1e-3).collect();
         let (mut v, mut x) = (0.0f64, 0.0f64);
         let mut xs = Vec::with_capacity(t.len());
         for &ti in &t {
-            // First-order transitions (10 ms) between the plateaus.
             v += 0.1 * (plateaus[((ti / 0.25) as usize).min(7)] - v);
             x += v * 1e-3;
             xs.push((x / 1e-6).round() * 1e-6);
@@ -1323,15 +1394,26 @@ mod tests {
             v: None,
             source: "test".into(),
         };
+        let p0 = Prepared::with_window(&record(vec![0.0; t.len()]), window);
+        let f = p0.friction(truth);
+        let u = (0..t.len()).map(|i| truth.mass * p0.a[i] + f[i]).collect();
+        Prepared::with_window(&record(u), window)
+    }
+
+    /// On a record of speed plateaus from 5 to 40 mm/s (5 to 40 V) whose
+    /// velocity strengthening is `nonlinear_viscous` with n = 0.5 (the
+    /// force computed along the measured motion), the general form fitted
+    /// from the fitted `viscous` candidate ends sound and takes the place
+    /// of a `nonlinear_viscous` fit stuck at n = 1.8, at less than half its
+    /// held-out rms.
+    #[test]
+    fn the_general_viscous_form_is_fitted_from_the_special_one() {
         let mut truth = fig5_model();
         truth.effects.nonlinear_viscous = Some(NonlinearViscous {
             sigma_n: 4.0,
             n: 0.5,
         });
-        let p0 = Prepared::with_window(&record(vec![0.0; t.len()]), window);
-        let f = p0.friction(&truth);
-        let u = (0..t.len()).map(|i| truth.mass * p0.a[i] + f[i]).collect();
-        let p = Prepared::with_window(&record(u), window);
+        let p = plateau_record(&truth);
         let base = fig5_model();
         let r = p.residual(&base);
         let viscous = fit_candidate(&p, &base, &r, Effect::Viscous).expect("a viscous fit");
@@ -1360,6 +1442,59 @@ mod tests {
         let mut alone = vec![None, before[1].clone()];
         nonlinear_from_viscous(&p, &base, &mut alone);
         assert_eq!(alone, vec![None, before[1].clone()]);
+    }
+
+    /// The same plateaus with `nonlinear_viscous` at n = 1.5 (3.2 N at
+    /// 40 mm/s): from the final model that names `viscous` (σ and the
+    /// levels fitted), the general form fitted again ends sound within 0.1
+    /// of the true exponent (the 2 s record trades it against the levels)
+    /// and at the truth's own held-out rms, where `viscous` stays 0.07 N
+    /// above it (model errors over the truth's rms as the floor; in-model:
+    /// the arithmetic of the check, not evidence of the workflow).
+    #[test]
+    fn the_general_viscous_form_is_fitted_again_from_the_final_model() {
+        let mut truth = fig5_model();
+        truth.effects.nonlinear_viscous = Some(NonlinearViscous {
+            sigma_n: 400.0,
+            n: 1.5,
+        });
+        let p = plateau_record(&truth);
+        let base = fig5_model();
+        let viscous =
+            fit_candidate(&p, &base, &p.residual(&base), Effect::Viscous).expect("a viscous fit");
+        let general = nonlinear_in_place_of_viscous(&p, &viscous).expect("a sound general fit");
+        let n = general.effects.nonlinear_viscous.expect("the effect").n;
+        assert!((n - 1.5).abs() < 0.1, "n = {n}");
+        let floor = held_rms(&p, &truth).0;
+        let [nested_error, general_error] =
+            [&viscous, &general].map(|m| residual::model_error(held_rms(&p, m).0, floor));
+        assert!(
+            nested_prefers(Effect::NonlinearViscous, general_error, nested_error),
+            "{general_error} against {nested_error}"
+        );
+        assert!(
+            general_error < 0.1 * nested_error,
+            "{general_error} against {nested_error}"
+        );
+        assert!(nested_error > 0.05, "{nested_error}");
+    }
+
+    /// The nested pair is decided by one rule both ways: the general form
+    /// where its model error is a tenth below the special case's (the
+    /// slow sinusoid 5900100: 0.036 N with `viscous`, 0 with
+    /// `nonlinear_viscous`), `viscous` otherwise (the servo 6000102, 0.1538
+    /// against 0.1459 N, which the swap pass of version 9.4 had taken by
+    /// its BIC alone).
+    #[test]
+    fn the_nested_pair_is_decided_by_one_rule_both_ways() {
+        let nv = Effect::NonlinearViscous;
+        assert!(nested_prefers(nv, 0.0, 0.0364));
+        assert!(!nested_prefers(nv, 0.1459, 0.1538));
+        assert!(nested_prefers(Effect::Viscous, 0.1538, 0.1459));
+        assert!(!nested_prefers(Effect::Viscous, 0.0364, 0.0));
+        // Exactly a tenth below: the general form.
+        assert!(nested_prefers(nv, 0.9, 1.0));
+        assert!(!nested_prefers(Effect::Viscous, 1.0, 0.9));
     }
 
     /// A presliding distance over a quarter of the position range (4 mm

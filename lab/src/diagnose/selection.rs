@@ -302,9 +302,22 @@ pub(super) fn prefer_nested(cands: &mut [Candidate], floor: f64) {
     if let (Some(0), Some(v)) = (pos(Effect::NonlinearViscous), pos(Effect::Viscous)) {
         let general = residual::model_error(cands[0].rms, floor);
         let nested = residual::model_error(cands[v].rms, floor);
-        if general > (1.0 - NESTED_GAP_GAIN) * nested {
+        if !nested_prefers(Effect::NonlinearViscous, general, nested) {
             cands.swap(0, v);
         }
+    }
+}
+
+/// Whether `to`, one of the nested pair `viscous`/`nonlinear_viscous`
+/// ([`nested`]), is to be named in place of the other, from their model
+/// errors [N]: the general form where its error is [`NESTED_GAP_GAIN`]
+/// below the nested one's, `viscous` otherwise (the rule of
+/// [`prefer_nested`], wherever the two are compared).
+pub fn nested_prefers(to: Effect, error_to: f64, error_from: f64) -> bool {
+    if to == Effect::NonlinearViscous {
+        error_to <= (1.0 - NESTED_GAP_GAIN) * error_from
+    } else {
+        error_from > (1.0 - NESTED_GAP_GAIN) * error_to
     }
 }
 
