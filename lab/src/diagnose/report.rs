@@ -375,6 +375,8 @@ pub fn report_text(rep: &Report, source: &str) -> String {
             .any(|(x, y, v)| (x, y) == (a, b) && v.decided() == Some(true));
         let why = if at_breakaways {
             "a tie sample by sample, decided at the break-aways"
+        } else if nested(*a, *b) {
+            "the nested pair's rule: the general form at a tenth less model error"
         } else {
             "lower held-out BIC"
         };
