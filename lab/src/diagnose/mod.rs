@@ -1400,6 +1400,19 @@ mod tests {
         Prepared::with_window(&record(u), window)
     }
 
+    /// The plateau record of the Fig. 5 model with `nonlinear_viscous`
+    /// (`sigma_n` [N·(s/m)^n], `n`), and the `viscous` candidate fitted
+    /// on it from the Fig. 5 model: `(truth, record, viscous)`.
+    fn nonlinear_on_plateaus(sigma_n: f64, n: f64) -> (Model, Prepared, Model) {
+        let mut truth = fig5_model();
+        truth.effects.nonlinear_viscous = Some(NonlinearViscous { sigma_n, n });
+        let p = plateau_record(&truth);
+        let base = fig5_model();
+        let viscous =
+            fit_candidate(&p, &base, &p.residual(&base), Effect::Viscous).expect("a viscous fit");
+        (truth, p, viscous)
+    }
+
     /// On a record of speed plateaus from 5 to 40 mm/s (5 to 40 V) whose
     /// velocity strengthening is `nonlinear_viscous` with n = 0.5 (the
     /// force computed along the measured motion), the general form fitted
@@ -1408,15 +1421,8 @@ mod tests {
     /// held-out rms.
     #[test]
     fn the_general_viscous_form_is_fitted_from_the_special_one() {
-        let mut truth = fig5_model();
-        truth.effects.nonlinear_viscous = Some(NonlinearViscous {
-            sigma_n: 4.0,
-            n: 0.5,
-        });
-        let p = plateau_record(&truth);
+        let (_, p, viscous) = nonlinear_on_plateaus(4.0, 0.5);
         let base = fig5_model();
-        let r = p.residual(&base);
-        let viscous = fit_candidate(&p, &base, &r, Effect::Viscous).expect("a viscous fit");
         let mut poor = base.clone();
         poor.effects.nonlinear_viscous = Some(NonlinearViscous {
             sigma_n: 1.0,
@@ -1453,15 +1459,7 @@ mod tests {
     /// the arithmetic of the check, not evidence of the workflow).
     #[test]
     fn the_general_viscous_form_is_fitted_again_from_the_final_model() {
-        let mut truth = fig5_model();
-        truth.effects.nonlinear_viscous = Some(NonlinearViscous {
-            sigma_n: 400.0,
-            n: 1.5,
-        });
-        let p = plateau_record(&truth);
-        let base = fig5_model();
-        let viscous =
-            fit_candidate(&p, &base, &p.residual(&base), Effect::Viscous).expect("a viscous fit");
+        let (truth, p, viscous) = nonlinear_on_plateaus(400.0, 1.5);
         let general = nonlinear_in_place_of_viscous(&p, &viscous).expect("a sound general fit");
         let n = general.effects.nonlinear_viscous.expect("the effect").n;
         assert!((n - 1.5).abs() < 0.1, "n = {n}");
