@@ -268,6 +268,14 @@ fn read_json<T: DeserializeOwned>(path: &Path) -> Result<T, String> {
 
 /// Generates the records of `o` and diagnoses each (two at a time).
 pub fn sweep(o: &Options) -> Result<Vec<Scored>, String> {
+    let bin = build()?;
+    let dirs = generate(&bin, o)?;
+    Ok(score_all(&bin, &dirs))
+}
+
+/// Builds the generator and the lab; returns the directory of their
+/// binaries.
+fn build() -> Result<PathBuf, String> {
     run(cargo().args([
         "build",
         "--release",
@@ -276,7 +284,12 @@ pub fn sweep(o: &Options) -> Result<Vec<Scored>, String> {
         "-p",
         "breakaway-lab",
     ]))?;
-    let bin = crate::target_dir().join("release");
+    Ok(crate::target_dir().join("release"))
+}
+
+/// Writes the records of `o` (seeds `from..to` of `kind` into `out`) and
+/// returns their folders, sorted.
+fn generate(bin: &Path, o: &Options) -> Result<Vec<PathBuf>, String> {
     std::fs::create_dir_all(&o.out).map_err(|e| format!("{}: {e}", o.out.display()))?;
     run(Command::new(bin.join("breakaway-gen")).args([
         "suite",
@@ -293,16 +306,24 @@ pub fn sweep(o: &Options) -> Result<Vec<Scored>, String> {
         .map(|e| e.path())
         .filter(|p| p.join("truth.json").is_file())
         // Only this run's seeds (`s<seed>_…`), whatever else is in DIR.
-        .filter(|p| {
-            p.file_name()
-                .and_then(|n| n.to_str())
-                .and_then(|n| n.strip_prefix('s'))
-                .and_then(|n| n.split('_').next())
-                .and_then(|n| n.parse::<u64>().ok())
-                .is_some_and(|seed| (o.from..o.to).contains(&seed))
-        })
+        .filter(|p| seed_of(p).is_some_and(|seed| (o.from..o.to).contains(&seed)))
         .collect();
     dirs.sort();
+    Ok(dirs)
+}
+
+/// The seed of a record folder named `s<seed>_…`.
+fn seed_of(dir: &Path) -> Option<u64> {
+    dir.file_name()
+        .and_then(|n| n.to_str())
+        .and_then(|n| n.strip_prefix('s'))
+        .and_then(|n| n.split('_').next())
+        .and_then(|n| n.parse::<u64>().ok())
+}
+
+/// Diagnoses and scores the records in `dirs` (two at a time), sorted by
+/// name.
+fn score_all(bin: &Path, dirs: &[PathBuf]) -> Vec<Scored> {
     let total = dirs.len();
     let done = AtomicUsize::new(0);
     let lab = bin.join("breakaway-lab");
@@ -366,7 +387,7 @@ pub fn sweep(o: &Options) -> Result<Vec<Scored>, String> {
     });
     bar.finish_and_clear();
     scored.sort_by(|a, b| a.name.cmp(&b.name));
-    Ok(scored)
+    scored
 }
 
 /// `breakaway-lab validate` of the model file `model` (the record's
@@ -768,17 +789,31 @@ pub fn smoke() -> Result<(), String> {
             serde_json::to_string(&s.misses).unwrap_or_default()
         ));
     }
-    for &(seed, kind, guard, what) in SMOKE_CASES {
+    // The regression cases: every record written first, then all scored
+    // together, two at a time (one sweep per case ran them one by one).
+    let bin = build()?;
+    let out = crate::target_dir().join("sweep-smoke-cases");
+    let _ = std::fs::remove_dir_all(&out);
+    let mut dirs = Vec::new();
+    for &(seed, kind, ..) in SMOKE_CASES {
         let o = Options {
             from: seed,
             to: seed + 1,
             kind: kind.into(),
-            out: crate::target_dir().join("sweep-smoke-cases"),
+            out: out.clone(),
             json: None,
         };
-        let _ = std::fs::remove_dir_all(&o.out);
-        let scored = sweep(&o)?;
-        let Some(x) = scored.first() else {
+        dirs.extend(generate(&bin, &o)?);
+    }
+    let scored = score_all(&bin, &dirs);
+    for &(seed, _, guard, what) in SMOKE_CASES {
+        let found = dirs
+            .iter()
+            .find(|d| seed_of(d) == Some(seed))
+            .and_then(|d| d.file_name())
+            .and_then(|n| n.to_str())
+            .and_then(|name| scored.iter().find(|x| x.name == name));
+        let Some(x) = found else {
             return Err(format!("sweep case {seed}: no record was generated"));
         };
         println!(
