@@ -754,7 +754,9 @@ pub fn smoke() -> Result<(), String> {
         json: None,
     };
     let _ = std::fs::remove_dir_all(&o.out);
-    let scored = sweep(&o)?;
+    // One build for the subset and the regression cases below.
+    let bin = build()?;
+    let scored = score_all(&bin, &generate(&bin, &o)?);
     let s = summary(&scored);
     println!(
         "sweep subset (seeds {}..{}, independent generator): {} records, {} named exactly, {} with the gap halved, {} false positives on {} effect-free records, median shrink {:.2}",
@@ -791,7 +793,6 @@ pub fn smoke() -> Result<(), String> {
     }
     // The regression cases: every record written first, then all scored
     // together, two at a time (one sweep per case ran them one by one).
-    let bin = build()?;
     let out = crate::target_dir().join("sweep-smoke-cases");
     let _ = std::fs::remove_dir_all(&out);
     let mut dirs = Vec::new();
