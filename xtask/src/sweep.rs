@@ -268,9 +268,13 @@ fn read_json<T: DeserializeOwned>(path: &Path) -> Result<T, String> {
 
 /// Generates the records of `o` and diagnoses each (two at a time).
 pub fn sweep(o: &Options) -> Result<Vec<Scored>, String> {
-    let bin = build()?;
-    let dirs = generate(&bin, o)?;
-    Ok(score_all(&bin, &dirs))
+    sweep_with(&build()?, o)
+}
+
+/// [`sweep`] with the binaries already built in `bin`.
+fn sweep_with(bin: &Path, o: &Options) -> Result<Vec<Scored>, String> {
+    let dirs = generate(bin, o)?;
+    Ok(score_all(bin, &dirs))
 }
 
 /// Builds the generator and the lab; returns the directory of their
@@ -756,7 +760,7 @@ pub fn smoke() -> Result<(), String> {
     let _ = std::fs::remove_dir_all(&o.out);
     // One build for the subset and the regression cases below.
     let bin = build()?;
-    let scored = score_all(&bin, &generate(&bin, &o)?);
+    let scored = sweep_with(&bin, &o)?;
     let s = summary(&scored);
     println!(
         "sweep subset (seeds {}..{}, independent generator): {} records, {} named exactly, {} with the gap halved, {} false positives on {} effect-free records, median shrink {:.2}",
