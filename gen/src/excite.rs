@@ -782,6 +782,8 @@ pub struct SimOut {
     pub x_range: f64,
     /// Largest contact speed [m/s].
     pub v_max: f64,
+    /// The plant's [`crate::plants::Plant::rest_log`] at the end.
+    pub rest_log: Vec<(f64, bool)>,
 }
 
 /// Why a simulation was given up.
@@ -846,5 +848,6 @@ pub fn run(
         *r = (s / n as f64).sqrt();
     }
     out.x_range = hi - lo;
+    out.rest_log = plant.rest_log().to_vec();
     Ok(out)
 }

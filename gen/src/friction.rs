@@ -387,6 +387,9 @@ pub struct ModelFriction {
     t_d: f64,
     /// Whether the motion is in a rest interval (`|v| ≤ v_rest`).
     in_rest: bool,
+    /// With `dwell_stiction`: each change of `in_rest` as (time [s], whether
+    /// a rest begins), in the order of the evaluations.
+    rest_log: Vec<(f64, bool)>,
     /// Lagged velocity `v_l` [m/s].
     v_l: f64,
     /// Whether `v_l` has been set at the first sample.
@@ -435,6 +438,7 @@ impl ModelFriction {
             x_ext: x0,
             t_d: 0.0,
             in_rest: true,
+            rest_log: Vec::new(),
             v_l: 0.0,
             lag_set: false,
             w: 0.0,
@@ -459,6 +463,12 @@ impl ModelFriction {
     /// Rest length `t_d` [s].
     pub fn rest_length(&self) -> f64 {
         self.t_d
+    }
+
+    /// With `dwell_stiction`, the changes of the dwell clock's rest state
+    /// so far: (time [s], whether a rest begins); the record starts at rest.
+    pub fn rest_log(&self) -> &[(f64, bool)] {
+        &self.rest_log
     }
 
     /// Evaluates the friction at the true position `x` [m], velocity `v`
@@ -497,7 +507,11 @@ impl ModelFriction {
             if !self.in_rest {
                 self.in_rest = true;
                 self.t_d = 0.0;
+                self.rest_log.push((t, true));
             }
+        } else if v_rest > 0.0 && self.in_rest {
+            self.in_rest = false;
+            self.rest_log.push((t, false));
         } else {
             self.in_rest = false;
         }

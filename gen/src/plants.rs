@@ -143,6 +143,11 @@ pub trait Law: Send {
     fn model(&self) -> &Model;
     /// The largest stiffness of the law near rest [N/m] (sets the small step).
     fn stiffness(&self) -> f64;
+    /// The changes of the `dwell_stiction` clock's rest state (time [s],
+    /// whether a rest begins); empty for a law without that clock.
+    fn rest_log(&self) -> &[(f64, bool)] {
+        &[]
+    }
 }
 
 /// The MODEL.md law (§3 with §5).
@@ -180,6 +185,9 @@ impl Law for ModelLaw {
         // |d·S − H_r| ≤ 2·Fs, −ln w ≲ 20 right after a turning point.
         let m = self.fric.model();
         40.0 * m.fs_max(60.0) / m.p.z_max
+    }
+    fn rest_log(&self) -> &[(f64, bool)] {
+        self.fric.rest_log()
     }
 }
 
@@ -461,6 +469,8 @@ pub trait Plant: Send {
     fn encoder(&self) -> f64;
     /// True while the state is finite.
     fn finite(&self) -> bool;
+    /// The friction law's [`Law::rest_log`].
+    fn rest_log(&self) -> &[(f64, bool)];
 }
 
 /// Ticks of the small step for a stiffness `k` [N/m] and mass `m` [kg]:
@@ -585,6 +595,9 @@ impl<L: Law> Plant for MassPlant<L> {
     fn finite(&self) -> bool {
         self.x.is_finite() && self.v.is_finite()
     }
+    fn rest_log(&self) -> &[(f64, bool)] {
+        self.law.rest_log()
+    }
 }
 
 /// Two masses: motor `m1` (driven by `u`, read by the encoder) coupled by a
@@ -643,6 +656,9 @@ impl<L: Law> Plant for TwoMassPlant<L> {
     }
     fn finite(&self) -> bool {
         self.x1.is_finite() && self.v1.is_finite() && self.x2.is_finite() && self.v2.is_finite()
+    }
+    fn rest_log(&self) -> &[(f64, bool)] {
+        self.law.rest_log()
     }
 }
 

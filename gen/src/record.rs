@@ -68,6 +68,9 @@ pub struct Generated {
     pub redraws: Vec<String>,
     /// The samples.
     pub data: Data,
+    /// With `dwell_stiction` hidden, the changes of the plant's dwell clock
+    /// in the record's simulation: (time [s], whether a rest begins).
+    pub rest_log: Vec<(f64, bool)>,
 }
 
 impl Generated {
@@ -264,6 +267,7 @@ fn generate_dynamic(d: &Draw) -> Result<Generated, Unstable> {
         clamped,
         sims,
         redraws: Vec::new(),
+        rest_log: out.rest_log,
         data: Data::Time {
             u,
             u_clean: out.u,
@@ -323,6 +327,7 @@ fn generate_steady(d: &Draw) -> Generated {
         clamped,
         sims: 0,
         redraws: Vec::new(),
+        rest_log: Vec::new(),
         data: Data::Steady { v, u },
     }
 }

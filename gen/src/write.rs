@@ -218,10 +218,57 @@ pub fn truth_json(g: &Generated) -> Value {
         },
         "plant_params": d.spec,
         "model": model_toml_value,
+        "dwell_clock": dwell_clock(&g.rest_log),
     })
 }
 
-/// Writes `dir/data.csv`, `dir/truth.toml` and `dir/truth.json`.
+/// Least rest [s] before a departure that [`dwell_clock`] counts, and the
+/// window [s] after it within which a new rest counts as a restart.
+pub const CLOCK_REST: f64 = 0.05;
+
+/// What the dwell clock of the record's simulation did as the axis left
+/// its rests (`null` without `dwell_stiction`): the departures from rests
+/// of at least [`CLOCK_REST`], and how many of them were followed by a new
+/// rest (a dip of `|v|` below `v_rest`, which restarts `t_d`) within
+/// [`CLOCK_REST`]. The record's counts cannot show such a dip; see
+/// `rest_log.csv` for every change.
+pub fn dwell_clock(log: &[(f64, bool)]) -> Value {
+    if log.is_empty() {
+        return Value::Null;
+    }
+    let mut rest_start = Some(0.0);
+    let (mut departures, mut restarted) = (0, 0);
+    for (k, &(t, rest)) in log.iter().enumerate() {
+        if rest {
+            rest_start = Some(t);
+        } else if let Some(s) = rest_start.take() {
+            if t - s >= CLOCK_REST {
+                departures += 1;
+                if log.get(k + 1).is_some_and(|&(t2, r2)| r2 && t2 - t < CLOCK_REST) {
+                    restarted += 1;
+                }
+            }
+        }
+    }
+    json!({
+        "departures": departures,
+        "restarted_within": CLOCK_REST,
+        "restarted": restarted,
+    })
+}
+
+/// `rest_log.csv`: the dwell clock's changes, `t` [s] and `rest` (1 where
+/// a rest begins, 0 where it ends).
+pub fn rest_log_csv(log: &[(f64, bool)]) -> String {
+    let mut s = String::from("t,rest\n");
+    for &(t, rest) in log {
+        s.push_str(&format!("{t},{}\n", u8::from(rest)));
+    }
+    s
+}
+
+/// Writes `dir/data.csv`, `dir/truth.toml` and `dir/truth.json`, and with
+/// `dwell_stiction` hidden `dir/rest_log.csv`.
 pub fn write(g: &Generated, dir: &Path) -> Result<(), String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("{}: cannot create: {e}", dir.display()))?;
     let put = |name: &str, text: &str| {
@@ -229,8 +276,43 @@ pub fn write(g: &Generated, dir: &Path) -> Result<(), String> {
         std::fs::write(&p, text).map_err(|e| format!("{}: cannot write: {e}", p.display()))
     };
     put("data.csv", &csv(g))?;
+    if !g.rest_log.is_empty() {
+        put("rest_log.csv", &rest_log_csv(&g.rest_log))?;
+    }
     put("truth.toml", &truth_toml(g)?)?;
     let json = serde_json::to_string_pretty(&truth_json(g))
         .map_err(|e| format!("cannot write JSON: {e}"))?;
     put("truth.json", &(json + "\n"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn dwell_clock_counts_departures_and_quick_restarts() {
+        // Rest from 0 to 0.2 s, a dip 3 ms after the departure; rest from
+        // 0.5 s to 0.52 s (too short to count); rest from 1.0 s to 1.6 s,
+        // no new rest within 50 ms; a departure at 2.0 s after a rest of
+        // 0.3 s, the log ending in motion.
+        let log = [
+            (0.2, false),
+            (0.203, true),
+            (0.204, false),
+            (0.5, true),
+            (0.52, false),
+            (1.0, true),
+            (1.6, false),
+            (1.7, true),
+            (2.0, false),
+        ];
+        let v = dwell_clock(&log);
+        assert_eq!(v["departures"], 3);
+        assert_eq!(v["restarted"], 1);
+        assert_eq!(dwell_clock(&[]), Value::Null);
+        assert_eq!(
+            rest_log_csv(&log[..2]),
+            "t,rest\n0.2,0\n0.203,1\n"
+        );
+    }
 }

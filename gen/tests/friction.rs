@@ -120,3 +120,36 @@ fn frictional_lag_uses_lagged_velocity() {
     let want = stribeck(vl, 1.0, 1.5, 1e-3, 2.0) - stribeck(2e-3, 1.0, 1.5, 1e-3, 2.0);
     assert!((d[0] - want).abs() < 1e-9, "{} vs {want}", d[0]);
 }
+
+#[test]
+fn dwell_clock_logs_every_change_of_its_rest_state() {
+    let mut m = paper();
+    m.e.dwell_stiction = Some(DwellStiction {
+        delta_fs: 0.2,
+        gamma: 0.5,
+        v_rest: 1e-4,
+    });
+    let mut f = ModelFriction::new(m, &[Effect::DwellStiction], 0.0);
+    // At rest until 0.1 s, out at 2e-4 m/s, a dip to 5e-5 m/s at 0.102 s
+    // (a new rest: t_d starts again), out again at 0.103 s.
+    let steps = [
+        (0.0, 0.0),
+        (0.1, 2e-4),
+        (0.101, 2e-4),
+        (0.102, 5e-5),
+        (0.103, 2e-4),
+    ];
+    for (t, v) in steps {
+        f.eval(v * t, v, t, None);
+        f.advance(v, 1e-3);
+    }
+    assert_eq!(f.rest_log(), &[(0.1, false), (0.102, true), (0.103, false)]);
+    // The dip restarted the clock: t_d is the 1 ms of the dip's rest.
+    assert!((f.rest_length() - 1e-3).abs() < 1e-15);
+    // Without dwell_stiction there is no clock to log.
+    let mut plain = ModelFriction::new(paper(), &[], 0.0);
+    for (t, v) in steps {
+        plain.eval(v * t, v, t, None);
+    }
+    assert!(plain.rest_log().is_empty());
+}
