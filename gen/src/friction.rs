@@ -507,12 +507,14 @@ impl ModelFriction {
             if !self.in_rest {
                 self.in_rest = true;
                 self.t_d = 0.0;
-                self.rest_log.push((t, true));
+                if v_rest > 0.0 {
+                    self.rest_log.push((t, true));
+                }
             }
-        } else if v_rest > 0.0 && self.in_rest {
-            self.in_rest = false;
-            self.rest_log.push((t, false));
         } else {
+            if self.in_rest && v_rest > 0.0 {
+                self.rest_log.push((t, false));
+            }
             self.in_rest = false;
         }
         if !self.lag_set {

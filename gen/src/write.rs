@@ -244,7 +244,10 @@ pub fn dwell_clock(log: &[(f64, bool)]) -> Value {
         } else if let Some(s) = rest_start.take() {
             if t - s >= CLOCK_REST {
                 departures += 1;
-                if log.get(k + 1).is_some_and(|&(t2, r2)| r2 && t2 - t < CLOCK_REST) {
+                if log
+                    .get(k + 1)
+                    .is_some_and(|&(t2, r2)| r2 && t2 - t < CLOCK_REST)
+                {
                     restarted += 1;
                 }
             }
@@ -310,9 +313,6 @@ mod tests {
         assert_eq!(v["departures"], 3);
         assert_eq!(v["restarted"], 1);
         assert_eq!(dwell_clock(&[]), Value::Null);
-        assert_eq!(
-            rest_log_csv(&log[..2]),
-            "t,rest\n0.2,0\n0.203,1\n"
-        );
+        assert_eq!(rest_log_csv(&log[..2]), "t,rest\n0.2,0\n0.203,1\n");
     }
 }

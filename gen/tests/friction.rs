@@ -146,9 +146,10 @@ fn dwell_clock_logs_every_change_of_its_rest_state() {
     assert_eq!(f.rest_log(), &[(0.1, false), (0.102, true), (0.103, false)]);
     // The dip restarted the clock: t_d is the 1 ms of the dip's rest.
     assert!((f.rest_length() - 1e-3).abs() < 1e-15);
-    // Without dwell_stiction there is no clock to log.
+    // Without dwell_stiction there is no clock to log, not even at v = 0
+    // after a motion.
     let mut plain = ModelFriction::new(paper(), &[], 0.0);
-    for (t, v) in steps {
+    for (t, v) in steps.into_iter().chain([(0.2, 0.0)]) {
         plain.eval(v * t, v, t, None);
     }
     assert!(plain.rest_log().is_empty());
