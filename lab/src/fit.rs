@@ -350,28 +350,47 @@ pub struct FitResult {
     pub passes: usize,
 }
 
+/// The training samples of a record and the roots `√w` of their weights
+/// (taken once per fit, not per pass).
+struct Training {
+    idx: Vec<usize>,
+    root_weight: Vec<f64>,
+}
+
+impl Training {
+    fn of(p: &Prepared) -> Training {
+        let idx: Vec<usize> = p.valid().filter(|&i| !p.held_out[i]).collect();
+        let root_weight = idx.iter().map(|&i| p.weight[i].sqrt()).collect();
+        Training { idx, root_weight }
+    }
+
+    /// `√w·s` at the training samples of the per-sample series `s`.
+    fn weigh(&self, s: &[f64]) -> Vec<f64> {
+        self.idx
+            .iter()
+            .zip(&self.root_weight)
+            .map(|(&i, w)| w * s[i])
+            .collect()
+    }
+}
+
 /// The training residual vector `√w·r` of `m`.
-fn train_vec(p: &Prepared, m: &Model, idx: &[usize]) -> Vec<f64> {
-    let r = p.residual_on(m, false);
-    idx.iter().map(|&i| p.weight[i].sqrt() * r[i]).collect()
+fn train_vec(p: &Prepared, m: &Model, training: &Training) -> Vec<f64> {
+    training.weigh(&p.residual_on(m, false))
 }
 
 /// Weighted training cost of `m`.
 pub fn train_cost(p: &Prepared, m: &Model) -> f64 {
-    let idx = train_indices(p);
-    train_vec(p, m, &idx).iter().map(|e| e * e).sum()
-}
-
-fn train_indices(p: &Prepared) -> Vec<usize> {
-    p.valid().filter(|&i| !p.held_out[i]).collect()
+    train_vec(p, m, &Training::of(p))
+        .iter()
+        .map(|e| e * e)
+        .sum()
 }
 
 /// Analytic Jacobian column `∂r/∂θ` for parameters that enter linearly.
-fn analytic_column(p: &Prepared, m: &Model, par: Param, idx: &[usize]) -> Option<Vec<f64>> {
-    let col = |s: &[f64]| -> Vec<f64> {
-        let f = p.filter_on(s, false);
-        idx.iter().map(|&i| -p.weight[i].sqrt() * f[i]).collect()
-    };
+fn analytic_column(p: &Prepared, m: &Model, par: Param, training: &Training) -> Option<Vec<f64>> {
+    let negated = |s: &[f64]| -> Vec<f64> { training.weigh(s).into_iter().map(|e| -e).collect() };
+    let col = |s: &[f64]| negated(&p.filter_on(s, false));
     // At a still sample the friction is the measured force whatever the
     // model (`Prepared::friction`): the force's derivative is 0 there, as
     // the model velocity is.
@@ -381,15 +400,14 @@ fn analytic_column(p: &Prepared, m: &Model, par: Param, idx: &[usize]) -> Option
             .collect()
     };
     match par {
-        Param::Mass => Some(idx.iter().map(|&i| -p.weight[i].sqrt() * p.a[i]).collect()),
+        Param::Mass => Some(negated(&p.a)),
         Param::Sigma | Param::F0 => {
             let which = if par == Param::Sigma {
                 FixedColumn::Velocity
             } else {
                 FixedColumn::Moving
             };
-            let f = p.fixed_column(which);
-            Some(idx.iter().map(|&i| -p.weight[i].sqrt() * f[i]).collect())
+            Some(negated(&p.fixed_column(which)))
         }
         Param::SigmaN => {
             let n = m.effects.nonlinear_viscous.map_or(0.5, |nv| nv.n);
@@ -439,13 +457,13 @@ pub fn fit(
     tick: &mut dyn FnMut(usize),
 ) -> FitResult {
     let scales = Scales::of(p);
-    let idx = train_indices(p);
+    let training = Training::of(p);
     let th0 = encode(m0, params, scales);
     let problem = ModelProblem {
         p,
         m0,
         params,
-        idx: &idx,
+        training: &training,
         scales,
     };
     let (th, cost, passes) = levenberg_marquardt(&problem, th0, opts, tick);
@@ -475,19 +493,19 @@ struct ModelProblem<'a> {
     p: &'a Prepared,
     m0: &'a Model,
     params: &'a [Param],
-    idx: &'a [usize],
+    training: &'a Training,
     scales: Scales,
 }
 
 impl Residuals for ModelProblem<'_> {
     fn residuals(&self, th: &[f64]) -> Vec<f64> {
         let m = decode(self.m0, self.params, th, self.scales);
-        train_vec(self.p, &m, self.idx)
+        train_vec(self.p, &m, self.training)
     }
 
     fn column(&self, j: usize, th: &[f64]) -> Option<Vec<f64>> {
         let m = decode(self.m0, self.params, th, self.scales);
-        analytic_column(self.p, &m, *self.params.get(j)?, self.idx)
+        analytic_column(self.p, &m, *self.params.get(j)?, self.training)
     }
 }
 
@@ -528,12 +546,17 @@ pub fn levenberg_marquardt(
         let mut a = vec![vec![0.0; np]; np];
         let mut g = vec![0.0; np];
         for r in 0..np {
-            for c in r..np {
-                let s: f64 = cols[r].iter().zip(&cols[c]).map(|(x, y)| x * y).sum();
+            let others: Vec<&[f64]> = cols[r..]
+                .iter()
+                .map(Vec::as_slice)
+                .chain([&e[..]])
+                .collect();
+            let sums = dots(&cols[r], &others);
+            for (c, &s) in (r..np).zip(&sums) {
                 a[r][c] = s;
                 a[c][r] = s;
             }
-            g[r] = -cols[r].iter().zip(&e).map(|(x, y)| x * y).sum::<f64>();
+            g[r] = -sums[np - r];
         }
         let mut improved = false;
         let mut rel = 0.0;
@@ -568,6 +591,34 @@ pub fn levenberg_marquardt(
     (th, cost, passes)
 }
 
+/// The dot products of `x` with each of `ys` (all as long as `x`), each
+/// summed in order from −0.0 as `Iterator::sum` does (the same bits), four
+/// at a time so that their additions overlap.
+fn dots(x: &[f64], ys: &[&[f64]]) -> Vec<f64> {
+    let mut out = Vec::with_capacity(ys.len());
+    let mut groups = ys.chunks_exact(4);
+    for y in &mut groups {
+        let (y0, y1, y2, y3) = (
+            &y[0][..x.len()],
+            &y[1][..x.len()],
+            &y[2][..x.len()],
+            &y[3][..x.len()],
+        );
+        let (mut s0, mut s1, mut s2, mut s3) = (-0.0f64, -0.0f64, -0.0f64, -0.0f64);
+        for (i, &xi) in x.iter().enumerate() {
+            s0 += xi * y0[i];
+            s1 += xi * y1[i];
+            s2 += xi * y2[i];
+            s3 += xi * y3[i];
+        }
+        out.extend([s0, s1, s2, s3]);
+    }
+    for y in groups.remainder() {
+        out.push(x.iter().zip(*y).map(|(a, b)| a * b).sum());
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -578,6 +629,38 @@ mod tests {
         let w = 2.0 * PI;
         let rec = record(2000, 1e-3, |t| (amplitude * (w * t).sin() / q).floor() * q);
         Prepared::new(&rec, 4)
+    }
+
+    /// `dots` is `Iterator::sum` of the products to the last bit, for
+    /// every group size (four at a time and the rest), and keeps the
+    /// sign of an all-negative-zero sum.
+    #[test]
+    fn dots_are_the_sums_to_the_last_bit() {
+        let n = 1001;
+        let series = |k: usize| -> Vec<f64> {
+            (0..n)
+                .map(|i| ((i * (k + 3)) as f64 * 0.37).sin() * 10f64.powi(i as i32 % 7 - 3))
+                .collect()
+        };
+        let x = series(0);
+        for count in 1..=9 {
+            let ys: Vec<Vec<f64>> = (1..=count).map(series).collect();
+            let refs: Vec<&[f64]> = ys.iter().map(Vec::as_slice).collect();
+            let got = dots(&x, &refs);
+            assert_eq!(got.len(), count);
+            for (y, g) in ys.iter().zip(&got) {
+                let want: f64 = x.iter().zip(y).map(|(a, b)| a * b).sum();
+                assert_eq!(g.to_bits(), want.to_bits(), "{count} series: {g} vs {want}");
+            }
+        }
+        let zeros = vec![-0.0; 8];
+        let neg: Vec<&[f64]> = vec![&zeros; 5];
+        let positive = vec![1.0; 8];
+        let want: f64 = positive.iter().zip(&zeros).map(|(a, b)| a * b).sum();
+        for d in dots(&positive, &neg) {
+            assert_eq!(d.to_bits(), want.to_bits());
+            assert!(d == 0.0 && d.is_sign_negative());
+        }
     }
 
     /// The fitted presliding distance never exceeds the record's travel

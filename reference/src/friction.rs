@@ -35,7 +35,8 @@ use std::f64::consts::PI;
 
 /// Per-sample terms of [`Friction::update_with`]; `None`: computed.
 /// `decay` and `speed_pow` depend only on the sample's velocity `v` [m/s]
-/// and the model's shape, `ripple_sin` only on its position `x` [m] and the
+/// and the model's shape, `lagged_decay` on the velocities so far, `τ_L`
+/// and the shape, `ripple_sin` only on its position `x` [m] and the
 /// ripple's wavelength and phase (a cache of them gives the same force);
 /// `rest_speed` is an input of its own, the speed estimate the
 /// `dwell_stiction` clock runs on.
@@ -44,6 +45,10 @@ pub struct SampleTerms {
     /// The Stribeck decay `exp(−(|v|/V)^δ)` ([`stribeck_decay`]); not used
     /// with `frictional_lag`.
     pub decay: Option<f64>,
+    /// With `frictional_lag`: the Stribeck decay `exp(−(|v_l|/V)^δ)` of
+    /// the lagged velocity ([`LagFilter`] over the same samples); not used
+    /// without it.
+    pub lagged_decay: Option<f64>,
     /// `|v|^n` of `nonlinear_viscous`.
     pub speed_pow: Option<f64>,
     /// The speed [m/s] that the `dwell_stiction` clock compares with
@@ -55,24 +60,80 @@ pub struct SampleTerms {
     pub ripple_sin: Option<f64>,
 }
 
+/// The lagged velocity `v_l` [m/s] of `frictional_lag` (MODEL.md §5):
+/// `v_l = v` at the first sample, then `τ_L·dv_l/dt = v − v_l` integrated
+/// exactly between samples with `v` linear between them (see the module
+/// documentation). [`Friction`] runs one; a caller that walks many models
+/// with the same `τ_L` over the same samples can run it once and give
+/// [`SampleTerms::lagged_decay`] (the same bits).
+#[derive(Clone, Debug, PartialEq)]
+pub struct LagFilter {
+    first: bool,
+    t_prev: f64,
+    v_prev: f64,
+    v_l: f64,
+    /// The step `(h, τ_L)` and its coefficients
+    /// `(exp(−h/τ_L), (1 − exp(−h/τ_L))·τ_L/h)` for that step: the same
+    /// step at every sample of a uniformly sampled record (zeros before
+    /// the first: h and τ_L are positive).
+    step: (f64, f64, f64, f64),
+}
+
+impl LagFilter {
+    /// The filter before the first sample: time `t0` [s], velocity `v0`
+    /// [m/s].
+    pub fn new(t0: f64, v0: f64) -> Self {
+        LagFilter {
+            first: true,
+            t_prev: t0,
+            v_prev: v0,
+            v_l: v0,
+            step: (0.0, 0.0, 0.0, 0.0),
+        }
+    }
+
+    /// Takes the sample at time `t` [s] with velocity `v` [m/s] for the
+    /// lag `tau_l` [s] (`None`: no lag, `v_l = v`) and returns `v_l` [m/s].
+    pub fn update(&mut self, tau_l: Option<f64>, t: f64, v: f64) -> f64 {
+        match tau_l {
+            Some(tau_l) if !self.first => {
+                let h = t - self.t_prev;
+                if h > 0.0 {
+                    let (h0, tau0, _, _) = self.step;
+                    if h != h0 || tau_l != tau0 {
+                        let r = h / tau_l;
+                        let ex = (-r).exp();
+                        let phi = -(-r).exp_m1() / r; // (1 − e)·τ/h
+                        self.step = (h, tau_l, ex, phi);
+                    }
+                    let (_, _, ex, phi) = self.step;
+                    self.v_l = ex * self.v_l + v - ex * self.v_prev - (v - self.v_prev) * phi;
+                }
+            }
+            _ => self.v_l = v,
+        }
+        self.first = false;
+        self.t_prev = t;
+        self.v_prev = v;
+        self.v_l
+    }
+
+    /// `v_l` [m/s] after the last update (`v0` before any).
+    pub fn lagged_velocity(&self) -> f64 {
+        self.v_l
+    }
+}
+
 /// Friction force of the full §5 composition, with its memory.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Friction {
     pre: Presliding,
     t0: f64,
-    first: bool,
-    t_prev: f64,
-    v_prev: f64,
-    v_l: f64,
+    lag: LagFilter,
     resting: bool,
     rest_start: f64,
     t_d: f64,
     f: f64,
-    /// The lag filter's step `(h, τ_L)` and its coefficients
-    /// `(exp(−h/τ_L), (1 − exp(−h/τ_L))·τ_L/h)` for that step: the same
-    /// step at every sample of a uniformly sampled record (zeros before
-    /// the first: h and τ_L are positive).
-    lag_step: (f64, f64, f64, f64),
 }
 
 impl Friction {
@@ -86,15 +147,11 @@ impl Friction {
         Friction {
             pre: Presliding::new(x0),
             t0,
-            first: true,
-            t_prev: t0,
-            v_prev: v0,
-            v_l: v0,
+            lag: LagFilter::new(t0, v0),
             resting: true,
             rest_start: t0,
             t_d: 0.0,
             f: 0.0,
-            lag_step: (0.0, 0.0, 0.0, 0.0),
         }
     }
 
@@ -112,24 +169,7 @@ impl Friction {
     /// exception: it replaces `|v|` in the `dwell_stiction` clock alone.
     pub fn update_with(&mut self, m: &Model, t: f64, x: f64, v: f64, terms: SampleTerms) -> f64 {
         let e = &m.effects;
-        // Frictional lag.
-        match &e.frictional_lag {
-            Some(lag) if !self.first => {
-                let h = t - self.t_prev;
-                if h > 0.0 {
-                    let (h0, tau0, _, _) = self.lag_step;
-                    if h != h0 || lag.tau_l != tau0 {
-                        let r = h / lag.tau_l;
-                        let ex = (-r).exp();
-                        let phi = -(-r).exp_m1() / r; // (1 − e)·τ/h
-                        self.lag_step = (h, lag.tau_l, ex, phi);
-                    }
-                    let (_, _, ex, phi) = self.lag_step;
-                    self.v_l = ex * self.v_l + v - ex * self.v_prev - (v - self.v_prev) * phi;
-                }
-            }
-            _ => self.v_l = v,
-        }
+        let v_l = self.lag.update(e.frictional_lag.map(|l| l.tau_l), t, v);
         // Dwell time.
         if let Some(dw) = &e.dwell_stiction {
             if terms.rest_speed.unwrap_or(v.abs()) <= dw.v_rest {
@@ -142,23 +182,18 @@ impl Friction {
                 self.resting = false;
             }
         }
-        self.first = false;
-        self.t_prev = t;
-        self.v_prev = v;
 
         let drift = e.drift.map_or(1.0, |d| 1.0 + d.beta * (t - self.t0));
         let asym = e.asymmetry.map_or(0.0, |a| a.a);
         let dwell = e
             .dwell_stiction
             .map_or(0.0, |dw| dw.delta_fs * self.t_d / (self.t_d + dw.gamma));
-        let v_s = if e.frictional_lag.is_some() {
-            self.v_l
+        // With `frictional_lag` the curve sees the lagged velocity.
+        let (v_s, decay) = if e.frictional_lag.is_some() {
+            (v_l, terms.lagged_decay)
         } else {
-            v
+            (v, terms.decay)
         };
-        // With `frictional_lag` the curve sees the lagged velocity, which
-        // no precomputed term knows.
-        let decay = terms.decay.filter(|_| e.frictional_lag.is_none());
         let s_of = |d: i8| {
             let sc = (1.0 + asym * f64::from(d)) * drift;
             stribeck_from_decay(m.fc * sc, m.fs * sc + dwell, || {
@@ -221,6 +256,6 @@ impl Friction {
     /// Lagged velocity `v_l` [m/s] after the last update (equal to `v`
     /// without `frictional_lag`).
     pub fn lagged_velocity(&self) -> f64 {
-        self.v_l
+        self.lag.lagged_velocity()
     }
 }

@@ -28,7 +28,7 @@ pub mod sim;
 
 pub use curves::{decay_of_power, shape, steady_state, stribeck, stribeck_decay};
 pub use effect::{Effect, UnknownEffect};
-pub use friction::{Friction, SampleTerms};
+pub use friction::{Friction, LagFilter, SampleTerms};
 pub use model::{
     ArgumentError, Asymmetry, Drift, DwellStiction, Effects, FrictionalLag, Model, ModelError,
     NonlinearViscous, Offset, PositionRipple,

@@ -358,7 +358,8 @@ fn frictional_lag_is_an_exact_first_order_filter() {
 /// decay, `|v|^n`, the ripple's sine) is `update` to the last bit, with and
 /// without a dip,
 /// with the effects that scale the levels, and with `frictional_lag`, whose
-/// lagged velocity makes the curve ignore a given decay.
+/// curve takes the decay of the lagged velocity (from a [`LagFilter`] run
+/// beside it) and ignores the decay of `v`.
 #[test]
 fn update_with_its_own_terms_is_update() {
     let mut dip = base();
@@ -378,20 +379,25 @@ fn update_with_its_own_terms_is_update() {
     flat.fs = flat.fc;
     let mut lag = dip.clone();
     lag.effects.frictional_lag = Some(FrictionalLag { tau_l: 0.02 });
-    for m in [dip, flat, lag] {
+    for m in [dip, flat, lag.clone()] {
         let (mut plain, mut given) = (
             Friction::new(&m, 0.0, 0.0, 0.0),
             Friction::new(&m, 0.0, 0.0, 0.0),
         );
         let mut seen_decay = false;
+        let tau_l = m.effects.frictional_lag.map(|l| l.tau_l);
+        let mut lag_filter = LagFilter::new(0.0, 0.0);
         for i in 0..4000 {
             let t = i as f64 * 1e-3;
             let x = 2e-4 * (3.0 * t).sin() + 1e-5 * (40.0 * t).sin();
             let v = 6e-4 * (3.0 * t).cos() + 4e-4 * (40.0 * t).cos();
             let decay = stribeck_decay(m.v_stribeck, m.delta, v);
+            let v_l = lag_filter.update(tau_l, t, v);
+            let lagged_decay = stribeck_decay(m.v_stribeck, m.delta, v_l);
             seen_decay |= decay > 1e-3 && decay < 0.999;
             let terms = SampleTerms {
                 decay: Some(decay),
+                lagged_decay: Some(lagged_decay),
                 speed_pow: Some(v.abs().powf(0.6)),
                 rest_speed: Some(v.abs()),
                 ripple_sin: Some(
@@ -406,4 +412,28 @@ fn update_with_its_own_terms_is_update() {
         }
         assert!(seen_decay, "the motion never reached the dip");
     }
+    // The lag model does read the given lagged decay: a wrong one (the
+    // decay of `v`) moves the force.
+    let mut lag_filter = LagFilter::new(0.0, 0.0);
+    let (mut plain, mut wrong) = (
+        Friction::new(&lag, 0.0, 0.0, 0.0),
+        Friction::new(&lag, 0.0, 0.0, 0.0),
+    );
+    let mut largest: f64 = 0.0;
+    for i in 0..4000 {
+        let t = i as f64 * 1e-3;
+        let x = 2e-4 * (3.0 * t).sin() + 1e-5 * (40.0 * t).sin();
+        let v = 6e-4 * (3.0 * t).cos() + 4e-4 * (40.0 * t).cos();
+        let v_l = lag_filter.update(Some(0.02), t, v);
+        assert_eq!(v_l.to_bits(), {
+            plain.update(&lag, t, x, v);
+            plain.lagged_velocity().to_bits()
+        });
+        let terms = SampleTerms {
+            lagged_decay: Some(stribeck_decay(lag.v_stribeck, lag.delta, v)),
+            ..SampleTerms::default()
+        };
+        largest = largest.max((wrong.update_with(&lag, t, x, v, terms) - plain.force()).abs());
+    }
+    assert!(largest > 1e-3, "largest difference {largest} N");
 }
