@@ -543,21 +543,8 @@ pub fn levenberg_marquardt(
             .collect();
         passes += cols.iter().map(|c| c.1).sum::<usize>();
         let cols: Vec<Vec<f64>> = cols.into_iter().map(|c| c.0).collect();
-        let mut a = vec![vec![0.0; np]; np];
-        let mut g = vec![0.0; np];
-        for r in 0..np {
-            let others: Vec<&[f64]> = cols[r..]
-                .iter()
-                .map(Vec::as_slice)
-                .chain([&e[..]])
-                .collect();
-            let sums = dots(&cols[r], &others);
-            for (c, &s) in (r..np).zip(&sums) {
-                a[r][c] = s;
-                a[c][r] = s;
-            }
-            g[r] = -sums[np - r];
-        }
+        let (a, ate) = crate::linalg::normal_equations(&cols, &e);
+        let g: Vec<f64> = ate.iter().map(|s| -s).collect();
         let mut improved = false;
         let mut rel = 0.0;
         while lambda < 1e10 {
@@ -591,34 +578,6 @@ pub fn levenberg_marquardt(
     (th, cost, passes)
 }
 
-/// The dot products of `x` with each of `ys` (all as long as `x`), each
-/// summed in order from −0.0 as `Iterator::sum` does (the same bits), four
-/// at a time so that their additions overlap.
-fn dots(x: &[f64], ys: &[&[f64]]) -> Vec<f64> {
-    let mut out = Vec::with_capacity(ys.len());
-    let mut groups = ys.chunks_exact(4);
-    for y in &mut groups {
-        let (y0, y1, y2, y3) = (
-            &y[0][..x.len()],
-            &y[1][..x.len()],
-            &y[2][..x.len()],
-            &y[3][..x.len()],
-        );
-        let (mut s0, mut s1, mut s2, mut s3) = (-0.0f64, -0.0f64, -0.0f64, -0.0f64);
-        for (i, &xi) in x.iter().enumerate() {
-            s0 += xi * y0[i];
-            s1 += xi * y1[i];
-            s2 += xi * y2[i];
-            s3 += xi * y3[i];
-        }
-        out.extend([s0, s1, s2, s3]);
-    }
-    for y in groups.remainder() {
-        out.push(x.iter().zip(*y).map(|(a, b)| a * b).sum());
-    }
-    out
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -629,38 +588,6 @@ mod tests {
         let w = 2.0 * PI;
         let rec = record(2000, 1e-3, |t| (amplitude * (w * t).sin() / q).floor() * q);
         Prepared::new(&rec, 4)
-    }
-
-    /// `dots` is `Iterator::sum` of the products to the last bit, for
-    /// every group size (four at a time and the rest), and keeps the
-    /// sign of an all-negative-zero sum.
-    #[test]
-    fn dots_are_the_sums_to_the_last_bit() {
-        let n = 1001;
-        let series = |k: usize| -> Vec<f64> {
-            (0..n)
-                .map(|i| ((i * (k + 3)) as f64 * 0.37).sin() * 10f64.powi(i as i32 % 7 - 3))
-                .collect()
-        };
-        let x = series(0);
-        for count in 1..=9 {
-            let ys: Vec<Vec<f64>> = (1..=count).map(series).collect();
-            let refs: Vec<&[f64]> = ys.iter().map(Vec::as_slice).collect();
-            let got = dots(&x, &refs);
-            assert_eq!(got.len(), count);
-            for (y, g) in ys.iter().zip(&got) {
-                let want: f64 = x.iter().zip(y).map(|(a, b)| a * b).sum();
-                assert_eq!(g.to_bits(), want.to_bits(), "{count} series: {g} vs {want}");
-            }
-        }
-        let zeros = vec![-0.0; 8];
-        let neg: Vec<&[f64]> = vec![&zeros; 5];
-        let positive = vec![1.0; 8];
-        let want: f64 = positive.iter().zip(&zeros).map(|(a, b)| a * b).sum();
-        for d in dots(&positive, &neg) {
-            assert_eq!(d.to_bits(), want.to_bits());
-            assert!(d == 0.0 && d.is_sign_negative());
-        }
     }
 
     /// The fitted presliding distance never exceeds the record's travel

@@ -1169,26 +1169,25 @@ impl Prepared {
             let ln_speed = self.ln_speed();
             ln_speed.iter().map(|&l| g(l)).collect()
         };
-        let decay = m.effects.frictional_lag.is_none().then(|| {
-            let (v_s, delta) = (m.v_stribeck, m.delta);
-            TermCache::get(&self.terms.decay, [v_s.to_bits(), delta.to_bits()], || {
+        let (v_s, delta) = (m.v_stribeck, m.delta);
+        let decay = match m.effects.frictional_lag {
+            None => TermCache::get(&self.terms.decay, [v_s.to_bits(), delta.to_bits()], || {
                 let ln_v = v_s.ln();
                 along(&|l| decay_of_power((delta * (l - ln_v)).exp()))
-            })
-        });
-        let lagged_decay = m.effects.frictional_lag.map(|lag| {
-            let (v_s, delta, tau_l) = (m.v_stribeck, m.delta, lag.tau_l);
-            let key = [v_s.to_bits(), delta.to_bits(), tau_l.to_bits()];
-            TermCache::get(&self.terms.lagged_decay, key, || {
-                let mut filter = LagFilter::new(self.t[0], self.model_velocity(0));
-                (0..self.len())
-                    .map(|i| {
-                        let v_l = filter.update(Some(tau_l), self.t[i], self.model_velocity(i));
-                        stribeck_decay(v_s, delta, v_l)
-                    })
-                    .collect()
-            })
-        });
+            }),
+            Some(lag) => {
+                let key = [v_s.to_bits(), delta.to_bits(), lag.tau_l.to_bits()];
+                TermCache::get(&self.terms.lagged_decay, key, || {
+                    let mut filter = LagFilter::new(self.t[0], self.model_velocity(0));
+                    (0..self.len())
+                        .map(|i| {
+                            let v = self.model_velocity(i);
+                            stribeck_decay(v_s, delta, filter.update(Some(lag.tau_l), self.t[i], v))
+                        })
+                        .collect()
+                })
+            }
+        };
         let speed_pow = m.effects.nonlinear_viscous.map(|nv| self.speed_pow(nv.n));
         let ripple_sin = m.effects.position_ripple.map(|r| {
             let key = [r.wavelength.to_bits(), r.phase.to_bits()];
@@ -1202,8 +1201,7 @@ impl Prepared {
         let mut fr = Friction::new(m, self.t[0], self.x[0], self.model_velocity(0));
         for i in 0..self.len() {
             let terms = SampleTerms {
-                decay: decay.as_ref().map(|d| d[i]),
-                lagged_decay: lagged_decay.as_ref().map(|d| d[i]),
+                decay: Some(decay[i]),
                 speed_pow: speed_pow.as_ref().map(|p| p[i]),
                 rest_speed: Some(self.rest_speed[i]),
                 ripple_sin: ripple_sin.as_ref().map(|r| r[i]),

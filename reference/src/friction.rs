@@ -34,21 +34,19 @@ use crate::presliding::Presliding;
 use std::f64::consts::PI;
 
 /// Per-sample terms of [`Friction::update_with`]; `None`: computed.
-/// `decay` and `speed_pow` depend only on the sample's velocity `v` [m/s]
-/// and the model's shape, `lagged_decay` on the velocities so far, `τ_L`
-/// and the shape, `ripple_sin` only on its position `x` [m] and the
+/// `decay` depends on the curve's velocity (`v` [m/s], or with
+/// `frictional_lag` the lagged `v_l`, which depends on the velocities so
+/// far and `τ_L` alone) and the model's shape, `speed_pow` only on `v` and
+/// the shape, `ripple_sin` only on its position `x` [m] and the
 /// ripple's wavelength and phase (a cache of them gives the same force);
 /// `rest_speed` is an input of its own, the speed estimate the
 /// `dwell_stiction` clock runs on.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct SampleTerms {
-    /// The Stribeck decay `exp(−(|v|/V)^δ)` ([`stribeck_decay`]); not used
-    /// with `frictional_lag`.
+    /// The Stribeck decay `exp(−(|v_s|/V)^δ)` ([`stribeck_decay`]) at the
+    /// curve's velocity: `v_s = v`, or with `frictional_lag` the lagged
+    /// velocity `v_l` (a [`LagFilter`] over the same samples).
     pub decay: Option<f64>,
-    /// With `frictional_lag`: the Stribeck decay `exp(−(|v_l|/V)^δ)` of
-    /// the lagged velocity ([`LagFilter`] over the same samples); not used
-    /// without it.
-    pub lagged_decay: Option<f64>,
     /// `|v|^n` of `nonlinear_viscous`.
     pub speed_pow: Option<f64>,
     /// The speed [m/s] that the `dwell_stiction` clock compares with
@@ -65,7 +63,7 @@ pub struct SampleTerms {
 /// exactly between samples with `v` linear between them (see the module
 /// documentation). [`Friction`] runs one; a caller that walks many models
 /// with the same `τ_L` over the same samples can run it once and give
-/// [`SampleTerms::lagged_decay`] (the same bits).
+/// [`SampleTerms::decay`] (the same bits).
 #[derive(Clone, Debug, PartialEq)]
 pub struct LagFilter {
     first: bool,
@@ -189,15 +187,13 @@ impl Friction {
             .dwell_stiction
             .map_or(0.0, |dw| dw.delta_fs * self.t_d / (self.t_d + dw.gamma));
         // With `frictional_lag` the curve sees the lagged velocity.
-        let (v_s, decay) = if e.frictional_lag.is_some() {
-            (v_l, terms.lagged_decay)
-        } else {
-            (v, terms.decay)
-        };
+        let v_s = if e.frictional_lag.is_some() { v_l } else { v };
         let s_of = |d: i8| {
             let sc = (1.0 + asym * f64::from(d)) * drift;
             stribeck_from_decay(m.fc * sc, m.fs * sc + dwell, || {
-                decay.unwrap_or_else(|| stribeck_decay(m.v_stribeck, m.delta, v_s))
+                terms
+                    .decay
+                    .unwrap_or_else(|| stribeck_decay(m.v_stribeck, m.delta, v_s))
             })
         };
         let h = self.pre.step(x, m.z_max, m.epsilon, s_of);

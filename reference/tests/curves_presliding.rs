@@ -359,7 +359,7 @@ fn frictional_lag_is_an_exact_first_order_filter() {
 /// without a dip,
 /// with the effects that scale the levels, and with `frictional_lag`, whose
 /// curve takes the decay of the lagged velocity (from a [`LagFilter`] run
-/// beside it) and ignores the decay of `v`.
+/// beside it).
 #[test]
 fn update_with_its_own_terms_is_update() {
     let mut dip = base();
@@ -391,13 +391,11 @@ fn update_with_its_own_terms_is_update() {
             let t = i as f64 * 1e-3;
             let x = 2e-4 * (3.0 * t).sin() + 1e-5 * (40.0 * t).sin();
             let v = 6e-4 * (3.0 * t).cos() + 4e-4 * (40.0 * t).cos();
-            let decay = stribeck_decay(m.v_stribeck, m.delta, v);
             let v_l = lag_filter.update(tau_l, t, v);
-            let lagged_decay = stribeck_decay(m.v_stribeck, m.delta, v_l);
+            let decay = stribeck_decay(m.v_stribeck, m.delta, v_l);
             seen_decay |= decay > 1e-3 && decay < 0.999;
             let terms = SampleTerms {
                 decay: Some(decay),
-                lagged_decay: Some(lagged_decay),
                 speed_pow: Some(v.abs().powf(0.6)),
                 rest_speed: Some(v.abs()),
                 ripple_sin: Some(
@@ -412,8 +410,8 @@ fn update_with_its_own_terms_is_update() {
         }
         assert!(seen_decay, "the motion never reached the dip");
     }
-    // The lag model does read the given lagged decay: a wrong one (the
-    // decay of `v`) moves the force.
+    // The lag model does read the given decay: the decay of `v` instead of
+    // `v_l` moves the force.
     let mut lag_filter = LagFilter::new(0.0, 0.0);
     let (mut plain, mut wrong) = (
         Friction::new(&lag, 0.0, 0.0, 0.0),
@@ -430,7 +428,7 @@ fn update_with_its_own_terms_is_update() {
             plain.lagged_velocity().to_bits()
         });
         let terms = SampleTerms {
-            lagged_decay: Some(stribeck_decay(lag.v_stribeck, lag.delta, v)),
+            decay: Some(stribeck_decay(lag.v_stribeck, lag.delta, v)),
             ..SampleTerms::default()
         };
         largest = largest.max((wrong.update_with(&lag, t, x, v, terms) - plain.force()).abs());
