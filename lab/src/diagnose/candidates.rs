@@ -393,13 +393,13 @@ pub(super) fn candidate_starts(p: &Prepared, m: &Model, effect: Effect, r: &[f64
     // a shift either, so the base fit shrank it to nothing) does not come
     // back in a local fit either: the first start, and its dip seeds, are
     // also tried with the base grid's two shortest distances.
-    if effect != Effect::Presliding && degenerate(p, m, Effect::Presliding).is_some() {
-        // The dip seeds of the first start are the last two (above).
-        let seeds = if dip_lost(p, m) { 2 } else { 0 };
+    if effect != Effect::Presliding
+        && degenerate(p, m, Effect::Presliding).is_some()
+        && !dip_lost(p, m)
+    {
         let again: Vec<Model> = out
             .iter()
             .take(1)
-            .chain(out.iter().skip(1).rev().take(seeds))
             .flat_map(|c| {
                 BASE_GRID_COUNTS[..2].iter().map(|&counts| {
                     let mut c = c.clone();
