@@ -955,6 +955,12 @@ pub const SMOKE_CASES: &[(u64, &str, Guard, &str)] = &[
         Guard::Success,
         "a lag of 0.2 s that hid the Stribeck dip from the base fit: the lag's starts from the typical speed and without a dip, version 9.3",
     ),
+    (
+        6_400_052,
+        "suite",
+        Guard::Success,
+        "a presliding distance collapsed below the resolution before the candidates: its restart at 10 and 40 counts, version 9.6",
+    ),
 ];
 
 #[cfg(test)]

@@ -391,8 +391,10 @@ pub(super) fn candidate_starts(p: &Prepared, m: &Model, effect: Effect, r: &[f64
     // A presliding distance collapsed below the encoder's resolution while
     // the effect was missing (the branch cannot follow a viscous slope or
     // a shift either, so the base fit shrank it to nothing) does not come
-    // back in a local fit either: the first start, and its dip seeds, are
-    // also tried with the base grid's two shortest distances.
+    // back in a local fit either: the first start is also tried with the
+    // base grid's two shortest distances (version 9.6). Not where the dip
+    // is lost too: restarting both, EMPS's `offset` fit ran δ to its bound
+    // (Fc 2.6 N, Fs 16.1 N), a written parameter at a bound.
     if effect != Effect::Presliding
         && degenerate(p, m, Effect::Presliding).is_some()
         && !dip_lost(p, m)
