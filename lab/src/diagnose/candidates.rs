@@ -399,17 +399,7 @@ pub(super) fn candidate_starts(p: &Prepared, m: &Model, effect: Effect, r: &[f64
         && degenerate(p, m, Effect::Presliding).is_some()
         && !dip_lost(p, m)
     {
-        let again: Vec<Model> = out
-            .iter()
-            .take(1)
-            .flat_map(|c| {
-                BASE_GRID_COUNTS[..2].iter().map(|&counts| {
-                    let mut c = c.clone();
-                    c.z_max = counts * p.resolution;
-                    c
-                })
-            })
-            .collect();
+        let again = at_distances(p, &out[..out.len().min(1)], &BASE_GRID_COUNTS[..2]);
         out.extend(again);
     }
     // A base model that used δ at the edge of its range to mimic the
@@ -431,20 +421,26 @@ pub(super) fn candidate_starts(p: &Prepared, m: &Model, effect: Effect, r: &[f64
     // that spring in a local fit: every start is also tried with a
     // presliding distance of tens of counts.
     if effect != Effect::Presliding && long_presliding(p, m) {
-        let again: Vec<Model> = out
-            .iter()
-            .flat_map(|c| {
-                PRESLIDING_RESTARTS.map(|counts| {
-                    let mut c = c.clone();
-                    c.z_max = counts * p.resolution;
-                    c
-                })
-            })
-            .collect();
+        let again = at_distances(p, &out, &PRESLIDING_RESTARTS);
         out.extend(again);
     }
     out.retain(|c| c.validate().is_ok());
     out
+}
+
+/// Each of `starts` at each presliding distance of `counts` [encoder
+/// counts], start by start.
+fn at_distances(p: &Prepared, starts: &[Model], counts: &[f64]) -> Vec<Model> {
+    starts
+        .iter()
+        .flat_map(|c| {
+            counts.iter().map(|&n| {
+                let mut c = c.clone();
+                c.z_max = n * p.resolution;
+                c
+            })
+        })
+        .collect()
 }
 
 /// Lag time constants [s] a `frictional_lag` candidate starts from.
