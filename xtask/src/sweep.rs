@@ -961,6 +961,12 @@ pub const SMOKE_CASES: &[(u64, &str, Guard, &str)] = &[
         Guard::Success,
         "a presliding distance collapsed below the resolution before the candidates: its restart at 10 and 40 counts, version 9.6",
     ),
+    (
+        6_700_078,
+        "mixed",
+        Guard::Success,
+        "`viscous` beside `nonlinear_viscous` in a local minimum of n: the general form refitted alone from its reseed exponents in the backward check, version 9.7",
+    ),
 ];
 
 #[cfg(test)]

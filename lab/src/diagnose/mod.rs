@@ -440,8 +440,7 @@ pub const NV_RESEED_EXPONENTS: [f64; 4] = [0.5, 0.75, 1.5, 2.0];
 fn nonlinear_in_place_of_viscous(p: &Prepared, final_model: &Model) -> Option<Model> {
     let v_t = typical_speed(p).max(1e-12);
     let own = final_model.effects.nonlinear_viscous;
-    let strengthening =
-        final_model.sigma * v_t + own.map_or(0.0, |nv| nv.sigma_n * v_t.powf(nv.n));
+    let strengthening = final_model.sigma * v_t + own.map_or(0.0, |nv| nv.sigma_n * v_t.powf(nv.n));
     let mut base = final_model.clone();
     base.sigma = 0.0;
     let starts: Vec<Model> = NV_RESEED_EXPONENTS
