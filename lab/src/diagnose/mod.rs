@@ -836,18 +836,20 @@ fn run(
             let effect = steps[k].effect;
             show(&format!("backward check: {effect}"));
             let mut refit = refit_without(&p, &model, effect);
+            let (mut w_rms, mut w_r) = held_rms(&p, &refit);
             // Without `viscous` beside `nonlinear_viscous`, the general
             // form is started again from the exponents of its reseed: the
             // refit from the pair's `n` stays in its local minimum
-            // (see [`nonlinear_in_place_of_viscous`]).
+            // (see [`nonlinear_in_place_of_viscous`]). Only here: the swap
+            // pass's refits were not measured with it.
             if effect == Effect::Viscous && fit::has_effect(&model, Effect::NonlinearViscous) {
-                if let Some(m) = nonlinear_in_place_of_viscous(&p, &model)
-                    .filter(|m| held_rms(&p, m).0 < held_rms(&p, &refit).0)
-                {
-                    refit = m;
+                if let Some(m) = nonlinear_in_place_of_viscous(&p, &model) {
+                    let (m_rms, m_r) = held_rms(&p, &m);
+                    if m_rms < w_rms {
+                        (refit, w_rms, w_r) = (m, m_rms, m_r);
+                    }
                 }
             }
-            let (w_rms, w_r) = held_rms(&p, &refit);
             // The share of the gap is a forward rule only: the refit
             // without an effect starts from the final model and often ends
             // below the step's own start, so a real effect (a ripple of 73×
