@@ -967,12 +967,6 @@ pub const SMOKE_CASES: &[(u64, &str, Guard, &str)] = &[
         Guard::Success,
         "`viscous` beside `nonlinear_viscous` in a local minimum of n: the general form refitted alone from its reseed exponents in the backward check, version 9.7",
     ),
-    (
-        6_900_153,
-        "mixed",
-        Guard::Success,
-        "`viscous` and `nonlinear_viscous` both at the floor: a tie at zero gap goes to the special case, version 9.8",
-    ),
 ];
 
 #[cfg(test)]

@@ -312,20 +312,18 @@ pub(super) fn prefer_nested(cands: &mut [Candidate], floor: f64) {
 /// ([`nested`]), is to be named in place of the other, from their model
 /// errors [N]: the general form where its error is [`NESTED_GAP_GAIN`]
 /// below the nested one's, `viscous` otherwise (the rule of
-/// [`prefer_nested`], wherever the two are compared). Where `viscous`
-/// leaves no gap (model error 0: the rest is noise and resolution) the
-/// general form has nothing to remove and `viscous` is named: until
-/// version 9.8 a tie at zero went to `nonlinear_viscous` (0 ≤ 0.9·0),
-/// which named it on the ramps record 6900153 (`viscous` hidden, both
-/// forms at the floor, n = 1.98).
+/// [`prefer_nested`], wherever the two are compared). With both at the
+/// floor (model errors 0) this names the general form: version 9.8 named
+/// `viscous` there instead, gained one development record (6900153) and
+/// lost three of its fresh draw 7100000– (`nonlinear_viscous` hidden,
+/// both forms at the floor), so it was withdrawn (lab/README.md,
+/// *Version 9.8*).
 pub fn nested_prefers(to: Effect, error_to: f64, error_from: f64) -> bool {
-    let (general, special) = if to == Effect::NonlinearViscous {
-        (error_to, error_from)
+    if to == Effect::NonlinearViscous {
+        error_to <= (1.0 - NESTED_GAP_GAIN) * error_from
     } else {
-        (error_from, error_to)
-    };
-    let general_wins = special > 0.0 && general <= (1.0 - NESTED_GAP_GAIN) * special;
-    general_wins == (to == Effect::NonlinearViscous)
+        error_from > (1.0 - NESTED_GAP_GAIN) * error_to
+    }
 }
 
 /// Whether `m` holds a Stribeck level `Fs` at the top of its range.
