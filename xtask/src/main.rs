@@ -380,6 +380,7 @@ mod tests {
             "profile --target thumbv7em-none-eabihf --rows update_f32 --listings",
             "fuzz --seconds 10 --target presliding",
             "sweep --seeds 700000..700160 --kind mixed --out /tmp/x --json /tmp/x.json",
+            "sweep --seeds 700000..700160 --lab /tmp/old/breakaway-lab",
         ] {
             assert!(parses(line), "{line}");
         }
@@ -403,5 +404,6 @@ mod tests {
         let o = args.options();
         assert_eq!((o.from, o.to, o.kind.as_str()), (100_000, 100_160, "mixed"));
         assert_eq!(o.out, root().join("target/sweep"));
+        assert_eq!(o.lab, None);
     }
 }

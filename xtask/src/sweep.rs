@@ -49,6 +49,9 @@ pub struct Options {
     pub out: PathBuf,
     /// Where the JSON summary goes (also printed).
     pub json: Option<PathBuf>,
+    /// The `breakaway-lab` binary that diagnoses and validates the records;
+    /// `None` for the workspace's own, built first.
+    pub lab: Option<PathBuf>,
 }
 
 /// The arguments of `cargo xtask sweep`.
@@ -66,6 +69,11 @@ pub struct Args {
     /// Where the JSON summary goes (it is also printed)
     #[arg(long, value_name = "FILE")]
     json: Option<PathBuf>,
+    /// Score with this `breakaway-lab` binary instead of the workspace's
+    /// (another version's build, to compare versions on the same records;
+    /// the records still come from the workspace's generator)
+    #[arg(long, value_name = "BIN")]
+    lab: Option<PathBuf>,
 }
 
 impl Args {
@@ -77,6 +85,7 @@ impl Args {
             kind: self.kind,
             out: self.out.unwrap_or_else(|| root().join("target/sweep")),
             json: self.json,
+            lab: self.lab,
         }
     }
 }
@@ -268,13 +277,17 @@ fn read_json<T: DeserializeOwned>(path: &Path) -> Result<T, String> {
 
 /// Generates the records of `o` and diagnoses each (two at a time).
 pub fn sweep(o: &Options) -> Result<Vec<Scored>, String> {
+    if let Some(lab) = o.lab.as_ref().filter(|lab| !lab.is_file()) {
+        return Err(format!("--lab {}: no such file", lab.display()));
+    }
     sweep_with(&build()?, o)
 }
 
 /// [`sweep`] with the binaries already built in `bin`.
 fn sweep_with(bin: &Path, o: &Options) -> Result<Vec<Scored>, String> {
+    let lab = o.lab.clone().unwrap_or_else(|| bin.join("breakaway-lab"));
     let dirs = generate(bin, o)?;
-    Ok(score_all(bin, &dirs))
+    Ok(score_all(&lab, &dirs))
 }
 
 /// Builds the generator and the lab; returns the directory of their
@@ -327,10 +340,9 @@ fn seed_of(dir: &Path) -> Option<u64> {
 
 /// Diagnoses and scores the records in `dirs` (two at a time), sorted by
 /// name.
-fn score_all(bin: &Path, dirs: &[PathBuf]) -> Vec<Scored> {
+fn score_all(lab: &Path, dirs: &[PathBuf]) -> Vec<Scored> {
     let total = dirs.len();
     let done = AtomicUsize::new(0);
-    let lab = bin.join("breakaway-lab");
     let bar = progress_bar(total);
     let one = |dir: &PathBuf| -> Scored {
         let name = dir
@@ -339,7 +351,7 @@ fn score_all(bin: &Path, dirs: &[PathBuf]) -> Vec<Scored> {
             .unwrap_or_default();
         let truth = read_json(&dir.join("truth.json")).unwrap_or_default();
         let report_path = dir.join("report.json");
-        let status = Command::new(&lab)
+        let status = Command::new(lab)
             .arg("diagnose")
             .arg(dir.join("data.csv"))
             .arg("--json")
@@ -351,14 +363,14 @@ fn score_all(bin: &Path, dirs: &[PathBuf]) -> Vec<Scored> {
             Err(e) => Err(format!("cannot run breakaway-lab: {e}")),
         };
         let mut s = score(&name, truth, report);
-        s.true_model_error = validated_error(&lab, dir, &dir.join("truth.toml"));
+        s.true_model_error = validated_error(lab, dir, &dir.join("truth.toml"));
         // The true model is read once for all its hidden effects.
         let truth = Model::load(&dir.join("truth.toml")).ok();
         s.without_error = s
             .hidden
             .iter()
             .map(|h| {
-                let e = truth.as_ref().and_then(|t| error_without(&lab, dir, t, h));
+                let e = truth.as_ref().and_then(|t| error_without(lab, dir, t, h));
                 (h.clone(), e)
             })
             .collect();
@@ -756,6 +768,7 @@ pub fn smoke() -> Result<(), String> {
         kind: "model".into(),
         out: crate::target_dir().join("sweep-smoke"),
         json: None,
+        lab: None,
     };
     let _ = std::fs::remove_dir_all(&o.out);
     // One build for the subset and the regression cases below.
@@ -807,10 +820,11 @@ pub fn smoke() -> Result<(), String> {
             kind: kind.into(),
             out: out.clone(),
             json: None,
+            lab: None,
         };
         dirs.extend(generate(&bin, &o)?);
     }
-    let scored = score_all(&bin, &dirs);
+    let scored = score_all(&bin.join("breakaway-lab"), &dirs);
     for &(seed, _, guard, what) in SMOKE_CASES {
         let found = dirs
             .iter()
