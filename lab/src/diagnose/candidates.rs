@@ -370,24 +370,13 @@ pub(super) fn candidate_starts(p: &Prepared, m: &Model, effect: Effect, r: &[f64
     // or to a bound) does not come back in a local fit, and without it
     // `offset` and `asymmetry` are the same constant shift: the first
     // start is also tried with the dip seeded again, every start for the
-    // two look-alikes, which the dip tells apart. A dip kept but bent
-    // (version 9.9) is seeded again for `viscous` and `nonlinear_viscous`
-    // too: a base without the slope bends its dip to follow it (on the
-    // development sinusoid 6300065 the start model had V = 8 µm/s and Fc
-    // 60 % above the truth), and a local fit of the slope from there
-    // kept the bent dip (held-out rms 0.040 N for `viscous` against
-    // 0.0043 N from the seeded dip).
-    let lost = dip_lost(p, m);
-    let reseed = if lost {
-        !matches!(
-            effect,
-            Effect::Stribeck | Effect::Presliding | Effect::FrictionalLag
-        )
-    } else {
-        matches!(effect, Effect::Viscous | Effect::NonlinearViscous)
-    };
-    if reseed {
-        let take = if lost && look_alike(effect).is_some() {
+    // two look-alikes, which the dip tells apart.
+    if !matches!(
+        effect,
+        Effect::Stribeck | Effect::Presliding | Effect::FrictionalLag
+    ) && dip_lost(p, m)
+    {
+        let take = if look_alike(effect).is_some() {
             out.len()
         } else {
             1
