@@ -22,7 +22,9 @@
 //! effect out leaves the true model's error within [`RESOLVED_GAIN`], the
 //! metric cannot see that effect on that record, and the summary counts per
 //! effect the records where it can (`resolved`) and how many of those name
-//! it (`detected_resolved`).
+//! it (`detected_resolved`). Each miss gets a cause from these figures
+//! ([`MissCause`]): what the metric cannot show is told apart from what
+//! the workflow got wrong.
 
 use crate::{cargo, root, run};
 use breakaway_lab::diagnose::without_effect;
@@ -114,6 +116,8 @@ pub struct Scored {
     pub hidden: Vec<String>,
     /// Named effects.
     pub named: Vec<String>,
+    /// Names a correct diagnosis may add (the truth's `accept_extra`).
+    pub accept_extra: Vec<String>,
     /// Visibility per hidden effect.
     pub visibility: Vec<(String, f64)>,
     /// Named exactly (see the module doc).
@@ -173,6 +177,65 @@ impl Scored {
             _ => false,
         }
     }
+
+    /// Why the record is a miss, `None` for a success: the first of
+    /// [`MissCause`]'s kinds that applies, in the order they are declared.
+    pub fn cause(&self) -> Option<MissCause> {
+        if self.success() {
+            return None;
+        }
+        if self.failed.is_some() {
+            return Some(MissCause::Failed);
+        }
+        if self.beyond_metric() {
+            return Some(MissCause::BeyondMetric);
+        }
+        let unseen = |h: &String| !self.named.contains(h) && self.resolved(h) == Some(false);
+        if self.hidden.iter().any(unseen) {
+            return Some(MissCause::Unresolved);
+        }
+        // The names that differ, an accepted extra aside.
+        let mut differ: Vec<&str> = self
+            .hidden
+            .iter()
+            .filter(|h| !self.named.contains(h))
+            .chain(
+                self.named
+                    .iter()
+                    .filter(|n| !self.hidden.contains(n) && !self.accept_extra.contains(n)),
+            )
+            .map(String::as_str)
+            .collect();
+        differ.sort_unstable();
+        if differ == ["asymmetry", "offset"] {
+            return Some(MissCause::LookAlike);
+        }
+        Some(MissCause::Workflow)
+    }
+}
+
+/// Why a record is a miss, as far as the generator's truth can tell
+/// ([`Scored::cause`]; the first that applies, in this order).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum MissCause {
+    /// `diagnose` failed on the record.
+    Failed,
+    /// The generator's true model itself leaves more than half of the gap
+    /// ([`Scored::beyond_metric`]).
+    BeyondMetric,
+    /// A hidden effect left unnamed is one the metric does not see: the
+    /// true model without it is no further from the data
+    /// ([`Scored::resolved`] is `false`).
+    Unresolved,
+    /// The names differ only by `offset` for `asymmetry` or the other way
+    /// round: the look-alikes, which differ only by `a·(Fs − Fc)` in the
+    /// Stribeck dip and at break-away.
+    LookAlike,
+    /// None of the above: the workflow's own miss (a wrong or missing name
+    /// the metric sees, a false positive, or a gap the true model halves
+    /// and the fitted one does not).
+    Workflow,
 }
 
 /// What the score reads of `breakaway-lab validate --json`.
@@ -233,6 +296,7 @@ pub fn score(name: &str, truth: Truth, report: Result<Report, String>) -> Scored
             plant,
             hidden,
             named: Vec::new(),
+            accept_extra: extra,
             visibility,
             exact: false,
             shrink: None,
@@ -257,6 +321,7 @@ pub fn score(name: &str, truth: Truth, report: Result<Report, String>) -> Scored
                 plant,
                 hidden,
                 named,
+                accept_extra: extra,
                 visibility,
                 exact,
                 shrink,
@@ -492,6 +557,8 @@ pub struct Summary {
     pub median_shrink: f64,
     /// Records not named exactly with the gap halved.
     pub misses: Vec<Miss>,
+    /// The misses by [`MissCause`].
+    pub misses_by_cause: MissCauses,
     /// Records named exactly.
     pub named_exactly: usize,
     /// Records named exactly with the gap halved.
@@ -533,9 +600,42 @@ pub struct Failed {
     pub record: String,
 }
 
+/// The misses counted by [`MissCause`].
+#[derive(Debug, Default, Serialize)]
+pub struct MissCauses {
+    /// [`MissCause::BeyondMetric`].
+    pub beyond_metric: usize,
+    /// [`MissCause::Failed`].
+    pub failed: usize,
+    /// [`MissCause::LookAlike`].
+    pub look_alike: usize,
+    /// [`MissCause::Unresolved`].
+    pub unresolved: usize,
+    /// [`MissCause::Workflow`].
+    pub workflow: usize,
+}
+
+impl MissCauses {
+    fn count(causes: impl Iterator<Item = MissCause>) -> Self {
+        let mut c = Self::default();
+        for cause in causes {
+            *match cause {
+                MissCause::Failed => &mut c.failed,
+                MissCause::BeyondMetric => &mut c.beyond_metric,
+                MissCause::Unresolved => &mut c.unresolved,
+                MissCause::LookAlike => &mut c.look_alike,
+                MissCause::Workflow => &mut c.workflow,
+            } += 1;
+        }
+        c
+    }
+}
+
 /// A record not named exactly with the gap halved.
 #[derive(Debug, Serialize)]
 pub struct Miss {
+    /// Why ([`Scored::cause`]).
+    pub cause: MissCause,
     /// Hidden effects.
     pub hidden: Vec<String>,
     /// Named effects.
@@ -699,8 +799,9 @@ pub fn summary(scored: &[Scored]) -> Summary {
         median_shrink: median(scored.iter().filter_map(|s| s.shrink).collect()),
         misses: scored
             .iter()
-            .filter(|s| !s.success())
-            .map(|s| Miss {
+            .filter_map(|s| s.cause().map(|cause| (s, cause)))
+            .map(|(s, cause)| Miss {
+                cause,
                 hidden: s.hidden.clone(),
                 named: s.named.clone(),
                 record: s.name.clone(),
@@ -708,6 +809,7 @@ pub fn summary(scored: &[Scored]) -> Summary {
                 true_model_error: s.true_model_error,
             })
             .collect(),
+        misses_by_cause: MissCauses::count(scored.iter().filter_map(Scored::cause)),
         named_exactly: scored.iter().filter(|s| s.exact).count(),
         named_exactly_and_gap_halved: scored.iter().filter(|s| s.success()).count(),
         beyond_metric: BeyondMetric {
@@ -1003,6 +1105,7 @@ mod tests {
                 && named.iter().all(|n| hidden_names.contains(n)),
             hidden: hidden_names,
             named,
+            accept_extra: Vec::new(),
             visibility: hidden.iter().map(|(h, v)| (h.to_string(), *v)).collect(),
             shrink,
             rms_before: shrink.map(|_| 1.0),
@@ -1035,6 +1138,42 @@ mod tests {
 
     /// Four records: the summary's text, key for key (a regression pin of
     /// the JSON users read).
+    /// Each miss gets the first cause that applies: a look-alike only
+    /// where the names differ by `offset` for `asymmetry` alone (an
+    /// accepted extra aside), an unresolved effect only where it is left
+    /// unnamed and the true model does not miss it.
+    #[test]
+    fn misses_are_given_their_cause() {
+        let ok = scored("a", "model", &[("offset", 30.0)], &["offset"], Some(0.9));
+        assert_eq!(ok.cause(), None);
+        let mut swap = scored("b", "lugre", &[("offset", 30.0)], &["asymmetry"], Some(0.9));
+        assert_eq!(swap.cause(), Some(MissCause::LookAlike));
+        swap.named.push("frictional_lag".into());
+        assert_eq!(swap.cause(), Some(MissCause::Workflow));
+        swap.accept_extra = vec!["frictional_lag".into()];
+        assert_eq!(swap.cause(), Some(MissCause::LookAlike));
+        let pair = [("asymmetry", 30.0), ("dwell_stiction", 10.0)];
+        let mut dwell = scored("c", "model", &pair, &["offset"], Some(0.9));
+        dwell.true_model_error = Some(0.01);
+        // Without its dwell term the true model is as close: not seen.
+        dwell.without_error = vec![
+            ("asymmetry".into(), Some(0.5)),
+            ("dwell_stiction".into(), Some(0.0105)),
+        ];
+        assert_eq!(dwell.cause(), Some(MissCause::Unresolved));
+        // Seen (0.02 N without it): the workflow's miss.
+        dwell.without_error[1].1 = Some(0.02);
+        assert_eq!(dwell.cause(), Some(MissCause::Workflow));
+        // The true model leaves 0.6 of a gap of 1: beyond the metric first.
+        dwell.true_model_error = Some(0.6);
+        assert_eq!(dwell.cause(), Some(MissCause::BeyondMetric));
+        // Named exactly, gap not halved, the true model halves it.
+        let short = scored("d", "model", &[("viscous", 30.0)], &["viscous"], Some(0.4));
+        assert_eq!(short.cause(), Some(MissCause::Workflow));
+        let null = scored("e", "model", &[], &["drift"], None);
+        assert_eq!(null.cause(), Some(MissCause::Workflow));
+    }
+
     #[test]
     fn summary_json_text() {
         let mut failed = scored("s4", "lugre", &[("drift", 30.0)], &[], None);
@@ -1091,6 +1230,7 @@ mod tests {
   "median_shrink": 0.75,
   "misses": [
     {
+      "cause": "workflow",
       "hidden": [],
       "named": [
         "viscous"
@@ -1100,6 +1240,7 @@ mod tests {
       "true_model_error": null
     },
     {
+      "cause": "beyond_metric",
       "hidden": [
         "offset",
         "drift"
@@ -1112,6 +1253,7 @@ mod tests {
       "true_model_error": 0.6
     },
     {
+      "cause": "failed",
       "hidden": [
         "drift"
       ],
@@ -1121,6 +1263,13 @@ mod tests {
       "true_model_error": null
     }
   ],
+  "misses_by_cause": {
+    "beyond_metric": 1,
+    "failed": 1,
+    "look_alike": 0,
+    "unresolved": 0,
+    "workflow": 1
+  },
   "named_exactly": 1,
   "named_exactly_and_gap_halved": 1,
   "null_records": 1,
