@@ -381,6 +381,7 @@ mod tests {
             "fuzz --seconds 10 --target presliding",
             "sweep --seeds 700000..700160 --kind mixed --out /tmp/x --json /tmp/x.json",
             "sweep --seeds 700000..700160 --lab /tmp/old/breakaway-lab",
+            "sweep --seeds 700000..700160 --out /tmp/x --rescore",
         ] {
             assert!(parses(line), "{line}");
         }
@@ -405,5 +406,6 @@ mod tests {
         assert_eq!((o.from, o.to, o.kind.as_str()), (100_000, 100_160, "mixed"));
         assert_eq!(o.out, root().join("target/sweep"));
         assert_eq!(o.lab, None);
+        assert!(!o.rescore);
     }
 }

@@ -54,6 +54,9 @@ pub struct Options {
     /// The `breakaway-lab` binary that diagnoses and validates the records;
     /// `None` for the workspace's own, built first.
     pub lab: Option<PathBuf>,
+    /// Score the reports already in the record folders instead of
+    /// diagnosing again (the validations are run again).
+    pub rescore: bool,
 }
 
 /// The arguments of `cargo xtask sweep`.
@@ -76,6 +79,12 @@ pub struct Args {
     /// the records still come from the workspace's generator)
     #[arg(long, value_name = "BIN")]
     lab: Option<PathBuf>,
+    /// Score each record's `report.json` already in DIR, from an earlier
+    /// sweep of the same seeds and kind, instead of diagnosing again (a
+    /// summary of those reports under the current scoring; the records
+    /// are generated again, identical, and validated again)
+    #[arg(long)]
+    rescore: bool,
 }
 
 impl Args {
@@ -88,6 +97,7 @@ impl Args {
             out: self.out.unwrap_or_else(|| root().join("target/sweep")),
             json: self.json,
             lab: self.lab,
+            rescore: self.rescore,
         }
     }
 }
@@ -352,7 +362,7 @@ pub fn sweep(o: &Options) -> Result<Vec<Scored>, String> {
 fn sweep_with(bin: &Path, o: &Options) -> Result<Vec<Scored>, String> {
     let lab = o.lab.clone().unwrap_or_else(|| bin.join("breakaway-lab"));
     let dirs = generate(bin, o)?;
-    Ok(score_all(&lab, &dirs))
+    Ok(score_all(&lab, &dirs, o.rescore))
 }
 
 /// Builds the generator and the lab; returns the directory of their
@@ -403,9 +413,9 @@ fn seed_of(dir: &Path) -> Option<u64> {
         .and_then(|n| n.parse::<u64>().ok())
 }
 
-/// Diagnoses and scores the records in `dirs` (two at a time), sorted by
-/// name.
-fn score_all(lab: &Path, dirs: &[PathBuf]) -> Vec<Scored> {
+/// Diagnoses (unless `rescore`: the reports are already there) and scores
+/// the records in `dirs` (two at a time), sorted by name.
+fn score_all(lab: &Path, dirs: &[PathBuf], rescore: bool) -> Vec<Scored> {
     let total = dirs.len();
     let done = AtomicUsize::new(0);
     let bar = progress_bar(total);
@@ -416,16 +426,20 @@ fn score_all(lab: &Path, dirs: &[PathBuf]) -> Vec<Scored> {
             .unwrap_or_default();
         let truth = read_json(&dir.join("truth.json")).unwrap_or_default();
         let report_path = dir.join("report.json");
-        let status = Command::new(lab)
-            .arg("diagnose")
-            .arg(dir.join("data.csv"))
-            .arg("--json")
-            .arg(&report_path)
-            .output();
-        let report = match status {
-            Ok(out) if out.status.success() => read_json(&report_path),
-            Ok(out) => Err(String::from_utf8_lossy(&out.stderr).trim().to_string()),
-            Err(e) => Err(format!("cannot run breakaway-lab: {e}")),
+        let report = if rescore {
+            read_json(&report_path)
+        } else {
+            let status = Command::new(lab)
+                .arg("diagnose")
+                .arg(dir.join("data.csv"))
+                .arg("--json")
+                .arg(&report_path)
+                .output();
+            match status {
+                Ok(out) if out.status.success() => read_json(&report_path),
+                Ok(out) => Err(String::from_utf8_lossy(&out.stderr).trim().to_string()),
+                Err(e) => Err(format!("cannot run breakaway-lab: {e}")),
+            }
         };
         let mut s = score(&name, truth, report);
         s.true_model_error = validated_error(lab, dir, &dir.join("truth.toml"));
@@ -871,6 +885,7 @@ pub fn smoke() -> Result<(), String> {
         out: crate::target_dir().join("sweep-smoke"),
         json: None,
         lab: None,
+        rescore: false,
     };
     let _ = std::fs::remove_dir_all(&o.out);
     // One build for the subset and the regression cases below.
@@ -923,10 +938,11 @@ pub fn smoke() -> Result<(), String> {
             out: out.clone(),
             json: None,
             lab: None,
+            rescore: false,
         };
         dirs.extend(generate(&bin, &o)?);
     }
-    let scored = score_all(&bin.join("breakaway-lab"), &dirs);
+    let scored = score_all(&bin.join("breakaway-lab"), &dirs, false);
     for &(seed, _, guard, what) in SMOKE_CASES {
         let found = dirs
             .iter()
