@@ -1152,8 +1152,6 @@ mod tests {
             .all(|g| g.holds(&right)));
     }
 
-    /// Four records: the summary's text, key for key (a regression pin of
-    /// the JSON users read).
     /// Each miss gets the first cause that applies: a look-alike only
     /// where the names differ by `offset` for `asymmetry` alone (an
     /// accepted extra aside), an unresolved effect only where it is left
@@ -1190,6 +1188,8 @@ mod tests {
         assert_eq!(null.cause(), Some(MissCause::Workflow));
     }
 
+    /// Four records: the summary's text, key for key (a regression pin of
+    /// the JSON users read).
     #[test]
     fn summary_json_text() {
         let mut failed = scored("s4", "lugre", &[("drift", 30.0)], &[], None);

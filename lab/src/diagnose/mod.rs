@@ -1211,8 +1211,6 @@ mod tests {
         )
     }
 
-    /// Pairs are of effects of the sliding curve F(v) only (version 7.3),
-    /// never two look-alikes nor an effect and its nested special case.
     #[test]
     fn an_effect_taken_twice_is_listed_once() {
         use Effect::{NonlinearViscous, PositionRipple, Viscous};
@@ -1242,6 +1240,8 @@ mod tests {
         assert!(!shifts_oppose(&alone), "offset alone");
     }
 
+    /// Pairs are of effects of the sliding curve F(v) only (version 7.3),
+    /// never two look-alikes nor an effect and its nested special case.
     #[test]
     fn pairs_are_of_sliding_curve_effects_only_without_look_alikes_or_nesting() {
         use Effect::*;
