@@ -130,8 +130,6 @@ pub struct Scored {
     pub accept_extra: Vec<String>,
     /// Visibility per hidden effect.
     pub visibility: Vec<(String, f64)>,
-    /// Named exactly (see the module doc).
-    pub exact: bool,
     /// Gap shrink `1 − after/before` (with hidden effects).
     pub shrink: Option<f64>,
     /// The report's gap before [N].
@@ -170,7 +168,7 @@ impl Scored {
 
     /// Exact and, with hidden effects, the gap halved.
     pub fn success(&self) -> bool {
-        self.exact && self.shrink.is_none_or(|s| s >= 0.5)
+        self.exact() && self.shrink.is_none_or(|s| s >= 0.5)
     }
 
     /// With hidden effects, whether even the generator's true model leaves
@@ -186,6 +184,30 @@ impl Scored {
             (Some(t), Some(b)) if !self.hidden.is_empty() => t > 0.5 * b,
             _ => false,
         }
+    }
+
+    /// The names in which the named set and the hidden one differ (an
+    /// accepted extra aside), sorted.
+    fn differing(&self) -> Vec<&str> {
+        let mut differ: Vec<&str> = self
+            .hidden
+            .iter()
+            .filter(|h| !self.named.contains(h))
+            .chain(
+                self.named
+                    .iter()
+                    .filter(|n| !self.hidden.contains(n) && !self.accept_extra.contains(n)),
+            )
+            .map(String::as_str)
+            .collect();
+        differ.sort_unstable();
+        differ
+    }
+
+    /// Named exactly (see the module doc): `diagnose` ran and the names
+    /// differ in nothing.
+    pub fn exact(&self) -> bool {
+        self.failed.is_none() && self.differing().is_empty()
     }
 
     /// Why the record is a miss, `None` for a success: the first of
@@ -204,20 +226,7 @@ impl Scored {
         if self.hidden.iter().any(unseen) {
             return Some(MissCause::Unresolved);
         }
-        // The names that differ, an accepted extra aside.
-        let mut differ: Vec<&str> = self
-            .hidden
-            .iter()
-            .filter(|h| !self.named.contains(h))
-            .chain(
-                self.named
-                    .iter()
-                    .filter(|n| !self.hidden.contains(n) && !self.accept_extra.contains(n)),
-            )
-            .map(String::as_str)
-            .collect();
-        differ.sort_unstable();
-        if differ == ["asymmetry", "offset"] {
+        if self.differing() == ["asymmetry", "offset"] {
             return Some(MissCause::LookAlike);
         }
         Some(MissCause::Workflow)
@@ -308,7 +317,6 @@ pub fn score(name: &str, truth: Truth, report: Result<Report, String>) -> Scored
             named: Vec::new(),
             accept_extra: extra,
             visibility,
-            exact: false,
             shrink: None,
             rms_before: None,
             failed: Some(e),
@@ -317,10 +325,6 @@ pub fn score(name: &str, truth: Truth, report: Result<Report, String>) -> Scored
         },
         Ok(rep) => {
             let named = rep.effects_added;
-            let exact = hidden.iter().all(|h| named.contains(h))
-                && named
-                    .iter()
-                    .all(|n| hidden.contains(n) || extra.contains(n));
             let shrink = (!hidden.is_empty()).then(|| {
                 let b = rep.rms_before.unwrap_or(f64::NAN);
                 let a = rep.rms_after.unwrap_or(f64::NAN);
@@ -333,7 +337,6 @@ pub fn score(name: &str, truth: Truth, report: Result<Report, String>) -> Scored
                 named,
                 accept_extra: extra,
                 visibility,
-                exact,
                 shrink,
                 rms_before: rep.rms_before,
                 failed: None,
@@ -756,7 +759,7 @@ pub fn summary(scored: &[Scored]) -> Summary {
                 detected: with.iter().filter(|(s, _)| s.named.contains(&e)).count(),
                 detected_resolved: resolved.iter().filter(|s| s.named.contains(&e)).count(),
                 resolved: resolved.len(),
-                exact: with.iter().filter(|(s, _)| s.exact).count(),
+                exact: with.iter().filter(|(s, _)| s.exact()).count(),
                 median_shrink: median(with.iter().filter_map(|(s, _)| s.shrink).collect()),
                 records: with.len(),
                 effect: e,
@@ -780,7 +783,7 @@ pub fn summary(scored: &[Scored]) -> Summary {
         .map(|plant| {
             let of: Vec<&Scored> = scored.iter().filter(|s| s.plant == plant).collect();
             PerPlant {
-                exact: of.iter().filter(|s| s.exact).count(),
+                exact: of.iter().filter(|s| s.exact()).count(),
                 false_positives: of
                     .iter()
                     .filter(|s| s.hidden.is_empty() && !s.named.is_empty())
@@ -790,6 +793,18 @@ pub fn summary(scored: &[Scored]) -> Summary {
                 success: of.iter().filter(|s| s.success()).count(),
                 plant,
             }
+        })
+        .collect();
+    let misses: Vec<Miss> = scored
+        .iter()
+        .filter_map(|s| s.cause().map(|cause| (s, cause)))
+        .map(|(s, cause)| Miss {
+            cause,
+            hidden: s.hidden.clone(),
+            named: s.named.clone(),
+            record: s.name.clone(),
+            shrink: s.shrink,
+            true_model_error: s.true_model_error,
         })
         .collect();
     Summary {
@@ -811,20 +826,9 @@ pub fn summary(scored: &[Scored]) -> Summary {
             .collect(),
         false_positives: nulls.iter().filter(|s| !s.named.is_empty()).count(),
         median_shrink: median(scored.iter().filter_map(|s| s.shrink).collect()),
-        misses: scored
-            .iter()
-            .filter_map(|s| s.cause().map(|cause| (s, cause)))
-            .map(|(s, cause)| Miss {
-                cause,
-                hidden: s.hidden.clone(),
-                named: s.named.clone(),
-                record: s.name.clone(),
-                shrink: s.shrink,
-                true_model_error: s.true_model_error,
-            })
-            .collect(),
-        misses_by_cause: MissCauses::count(scored.iter().filter_map(Scored::cause)),
-        named_exactly: scored.iter().filter(|s| s.exact).count(),
+        misses_by_cause: MissCauses::count(misses.iter().map(|m| m.cause)),
+        misses,
+        named_exactly: scored.iter().filter(|s| s.exact()).count(),
         named_exactly_and_gap_halved: scored.iter().filter(|s| s.success()).count(),
         beyond_metric: BeyondMetric {
             misses: scored
@@ -986,7 +990,7 @@ impl Guard {
         let halved = x.shrink.is_none_or(|s| s >= 0.5);
         match self {
             Guard::Success => x.success(),
-            Guard::Named => x.exact,
+            Guard::Named => x.exact(),
             Guard::OneShift => {
                 fn shifts(names: &[String]) -> Vec<&str> {
                     let mut v: Vec<&str> = names
@@ -1117,8 +1121,6 @@ mod tests {
         Scored {
             name: name.into(),
             plant: plant.into(),
-            exact: hidden_names.iter().all(|h| named.contains(h))
-                && named.iter().all(|n| hidden_names.contains(n)),
             hidden: hidden_names,
             named,
             accept_extra: Vec::new(),
@@ -1388,7 +1390,7 @@ mod tests {
         )
         .unwrap();
         let s = score("s1", truth, Ok(report));
-        assert!(s.exact && s.success());
+        assert!(s.exact() && s.success());
         assert_eq!(s.plant, "lugre");
         assert_eq!(s.visibility, vec![("offset".to_string(), 25.0)]);
         assert_eq!(s.shrink, Some(0.75));
@@ -1397,7 +1399,10 @@ mod tests {
         let report: Report =
             serde_json::from_str(r#"{"effects_added": [], "rms_before": null}"#).unwrap();
         let s = score("s2", Truth::default(), Ok(report));
-        assert_eq!((s.plant.as_str(), s.exact, s.shrink), ("model", true, None));
+        assert_eq!(
+            (s.plant.as_str(), s.exact(), s.shrink),
+            ("model", true, None)
+        );
         let s = score("s3", Truth::default(), Err("failed".into()));
         assert_eq!(s.failed.as_deref(), Some("failed"));
     }
