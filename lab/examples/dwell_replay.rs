@@ -14,8 +14,8 @@
 //! `A − B` with an intercept over the rests where both replays broke away
 //! and differ by less than 50 ms: a slope of 1 says the measurement follows
 //! A, 0 that it follows B. On the outside example `servo_dwell` with A its
-//! true model and B that model without `dwell_stiction`, see lab/README
-//! ("Known gaps", dwell).
+//! true model and B that model without `dwell_stiction`, see lab/HISTORY.md
+//! ("Known gaps, as recorded", dwell).
 
 use breakaway_lab::data;
 use breakaway_lab::residual::{auto_window, Prepared};

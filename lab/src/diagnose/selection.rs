@@ -316,7 +316,7 @@ pub(super) fn prefer_nested(cands: &mut [Candidate], floor: f64) {
 /// floor (model errors 0) this names the general form: version 9.8 named
 /// `viscous` there instead, gained one development record (6900153) and
 /// lost three of its fresh draw 7100000– (`nonlinear_viscous` hidden,
-/// both forms at the floor), so it was withdrawn (lab/README.md,
+/// both forms at the floor), so it was withdrawn (lab/HISTORY.md,
 /// *Version 9.8*).
 pub fn nested_prefers(to: Effect, error_to: f64, error_from: f64) -> bool {
     if to == Effect::NonlinearViscous {
