@@ -21,7 +21,8 @@
 //!    its BIC is lower **and** it lowers the held-out RMS by at least
 //!    [`ACCEPT_GAIN`] above the floor (see there for why both) **and**
 //!    removes [`MIN_GAP_SHARE`] of the gap; repeated until none is, then
-//!    a backward and a swap pass ([`diagnose`]).
+//!    a backward and a swap pass. The search's stages, in the order
+//!    [`diagnose`] runs them, are the methods of `Search` (`search.rs`).
 //! 5. **Report** (`report.rs`): JSON, text and the model in MODEL.md §7
 //!    names.
 
@@ -41,7 +42,10 @@ pub mod breakaway;
 mod candidates;
 mod localise;
 mod report;
+mod search;
 mod selection;
+
+use search::Search;
 
 pub use base::*;
 pub use candidates::*;
@@ -237,7 +241,7 @@ pub struct Report {
     pub dropped: Vec<(Effect, String)>,
     /// Why the base's presliding part was fitted again before the
     /// candidates (first fitted into a local minimum), with the held-out
-    /// figures; `None` when it was not ([`BaseFix`]).
+    /// figures; `None` when it was not (`BaseFix`).
     pub base_refit: Option<String>,
     /// Accepted steps.
     pub steps: Vec<Step>,
@@ -408,7 +412,7 @@ fn nonlinear_from_viscous(p: &Prepared, base: &Model, fits: &mut Vec<Option<(Eff
     }
 }
 
-/// Exponents from which [`nonlinear_in_place_of_viscous`] starts
+/// Exponents from which `nonlinear_in_place_of_viscous` starts
 /// `nonlinear_viscous` on a final model that names `viscous`.
 pub const NV_RESEED_EXPONENTS: [f64; 4] = [0.5, 0.75, 1.5, 2.0];
 
@@ -664,8 +668,7 @@ fn run(
         }
         None => base_weights(&mut p, &mut show),
     };
-    let mut floor = p.floor(Some(true));
-    let mut floor_estimate = None;
+    let floor = p.floor(Some(true));
     let given = start.map(|m| residual::model_error(held_rms(&p, m).0, floor));
     show("refitting with error weights");
     let params = fit::params_of(&model);
@@ -686,11 +689,6 @@ fn run(
     let moving_held_out = p.valid().filter(|&i| p.held_out[i] && !p.still[i]).count();
     let judged = moving_held_out >= min_moving_held_out(p.kf);
     let rounds = if judged { MAX_ROUNDS } else { 0 };
-    let mut steps = Vec::new();
-    let mut last_round = Vec::new();
-    // Whether a round restarted the Stribeck shape after a step: the
-    // step's choice among look-alikes was then made on another base.
-    let mut reshaped = false;
     let mut base_refit = None;
     if start.is_none() && judged {
         let fixed = match drop_harmful(&p, &model, &mut show) {
@@ -709,428 +707,25 @@ fn run(
             (rms, r) = held_rms(&p, &model);
         }
     }
-    for round in 0..rounds {
-        let missing: Vec<Effect> = Effect::ALL
-            .into_iter()
-            .filter(|&e| !fit::has_effect(&model, e) && allowed(e))
-            .filter(|e| !dropped.iter().any(|(d, _)| d == e))
-            .collect();
-        if round > 0 && dip_lost(&p, &model) {
-            // The candidates below may seed the dip again (see
-            // `candidate_starts`): what the dip alone gains is taken here
-            // first, unnamed, so that no effect is credited with it.
-            let again = restart_dip(&p, model.clone(), &mut show);
-            if again != model {
-                reshaped = true;
-                model = again;
-                (rms, r) = held_rms(&p, &model);
-            }
-        }
-        let (mut cands, mut held_back) = (Vec::new(), Vec::new());
-        let n_cur = fit::params_of(&model).len();
-        let bic_cur = bic(&p, rms, n_cur);
-        // Each missing effect is fitted on its own (in parallel; the
-        // results are taken in catalogue order below, as a sequential run
-        // would take them).
-        show(&format!(
-            "round {}: fitting {} candidates ({})",
-            round + 1,
-            missing.len(),
-            missing
-                .iter()
-                .map(|e| e.to_string())
-                .collect::<Vec<_>>()
-                .join(", ")
-        ));
-        let mut fits: Vec<Option<(Effect, Model)>> = missing
-            .par_iter()
-            .map(|&effect| fit_candidate(&p, &model, &r, effect).map(|m| (effect, m)))
-            .collect();
-        nonlinear_from_viscous(&p, &model, &mut fits);
-        for (effect, fitted) in fits.into_iter().flatten() {
-            if !admissible(&p, &fitted, effect) {
-                continue;
-            }
-            let (c_rms, _) = held_rms(&p, &fitted);
-            let score = bic(&p, c_rms, fit::params_of(&fitted).len()) - bic_cur;
-            let candidate = Candidate {
-                effect,
-                rms: c_rms,
-                score,
-                model: fitted,
-            };
-            if dip_run_to_bound(&model, &candidate.model) {
-                held_back.push(candidate);
-            } else {
-                cands.push(candidate);
-            }
-        }
-        cands.sort_by(|a, b| a.score.total_cmp(&b.score));
-        held_back.sort_by(|a, b| a.score.total_cmp(&b.score));
-        // The floor's slow-motion part is the spread that the start
-        // model's residual shows at the slow samples (see
-        // `Prepared::set_error_weights`), which a missing effect can widen:
-        // on slow sinusoids of the draw 2800000– the floor stood well above
-        // what a fitted candidate reached on the held-out blocks (2800126:
-        // floor 0.058 N, `frictional_lag` 0.0083 N), so nothing could be
-        // named. A held-out rms below the floor shows it too high: in the
-        // first round the floor is lowered to the lowest candidate's
-        // held-out rms, and candidates are judged on their raw gain
-        // (`gain_above_floor`). Not in later rounds: lowering it there too
-        // named extra effects beside the right ones on 4 development
-        // records of 2700000– (`drift` beside a ripple, `offset` beside
-        // `asymmetry`). Measuring the spread again on the candidate's
-        // residual instead left the floor too high on both records it was
-        // meant for (2800030, 2800126).
-        let lowest = cands.iter().map(|c| c.rms).min_by(f64::total_cmp);
-        if let Some(low) = lowest.filter(|&low| round == 0 && low < floor) {
-            floor_estimate = Some(floor);
-            floor = low;
-        }
-        prefer_nested(&mut cands, floor);
-        let accept = cands
-            .first()
-            .is_some_and(|c| c.score < 0.0 && enough_gain(c.effect, rms, c.rms, floor));
-        // Neither alone: the best pair of the round's leaders, if one
-        // passes (see [`best_pair`]).
-        let pair = if accept || residual::model_error(rms, floor) < PAIR_MIN_GAP * floor {
-            None
-        } else {
-            show(&format!("round {}: fitting pairs", round + 1));
-            best_pair(&p, &model, &cands, (rms, floor, bic_cur))
-        };
-        let (best, joint) = match (accept, pair) {
-            (true, _) => (cands[0].clone(), None),
-            (false, Some((first, second))) => (second, Some(first)),
-            (false, None) => {
-                last_round = cands;
-                break;
-            }
-        };
-        // The localising signals of the residual before the step, once
-        // (a walk of the record) for the one or two steps.
-        let signals = localise_signals(&p, &r, &signal_series(&p, &model));
-        let sig_of = |e: Effect| {
-            let name = signal_of(e);
-            signals
-                .iter()
-                .find(|(n, _)| n == name)
-                .cloned()
-                .unwrap_or((name.to_string(), 0.0))
-        };
-        let (new_rms, new_r) = held_rms(&p, &best.model);
-        let step = Step {
-            effect: best.effect,
-            joint,
-            rms_before: residual::model_error(rms, floor),
-            rms_after: residual::model_error(new_rms, floor),
-            score: best.score,
-            model: best.model.clone(),
-            signal: sig_of(best.effect),
-            candidates: cands,
-            held_back,
-            residual_before: r.clone(),
-        };
-        if let Some(first) = joint {
-            steps.push(Step {
-                effect: first,
-                joint: Some(best.effect),
-                signal: sig_of(first),
-                ..step.clone()
-            });
-        }
-        steps.push(step);
-        model = best.model;
-        rms = new_rms;
-        r = new_r;
-    }
-    // Backward pass: greedy forward selection can take a look-alike first
-    // (asymmetry for offset) and keep it after the real effect joined.
-    // An added effect is dropped when the model refitted without it is
-    // held-out within its required gain of the final one.
-    let mut pruned = Vec::new();
-    if !steps.is_empty() {
-        let mut k = 0;
-        while k < steps.len() {
-            let effect = steps[k].effect;
-            show(&format!("backward check: {effect}"));
-            let mut refit = refit_without(&p, &model, effect);
-            let (mut w_rms, mut w_r) = held_rms(&p, &refit);
-            // Without `viscous` beside `nonlinear_viscous`, the general
-            // form is started again from the exponents of its reseed: the
-            // refit from the pair's `n` stays in its local minimum
-            // (see [`nonlinear_in_place_of_viscous`]). Only here: the swap
-            // pass's refits were not measured with it.
-            if effect == Effect::Viscous && fit::has_effect(&model, Effect::NonlinearViscous) {
-                if let Some(m) = nonlinear_in_place_of_viscous(&p, &model) {
-                    let (m_rms, m_r) = held_rms(&p, &m);
-                    if m_rms < w_rms {
-                        (refit, w_rms, w_r) = (m, m_rms, m_r);
-                    }
-                }
-            }
-            // The share of the gap is a forward rule only: the refit
-            // without an effect starts from the final model and often ends
-            // below the step's own start, so a real effect (a ripple of 73×
-            // the noise) would cost less than a quarter of that gap.
-            if gain_above_floor(w_rms, rms, floor) < required_gain(effect) {
-                pruned.push((
-                    effect,
-                    residual::model_error(w_rms, floor),
-                    residual::model_error(rms, floor),
-                ));
-                steps.remove(k);
-                model = refit;
-                rms = w_rms;
-                r = w_r;
-            } else {
-                k += 1;
-            }
-        }
-    }
-    // Swap pass: an effect taken while another was still missing may be
-    // the look-alike of a runner-up of its round (nonlinear_viscous for
-    // viscous beside drift, asymmetry for offset). With the others in
-    // place, each added effect is replaced by the runner-ups of its round
-    // (the two next best) when one gives a lower held-out BIC. So too for
-    // a single look-alike, and after a restarted Stribeck shape: `offset`
-    // and `asymmetry` tie exactly on a base without a dip and differ once
-    // it is back, and a step that brought the dip back with one of them
-    // fitted the other from the old base.
-    let mut swapped = Vec::new();
-    if steps.len() > 1 || reshaped || steps.iter().any(|s| look_alike(s.effect).is_some()) {
-        for step in steps.iter_mut() {
-            let effect = step.effect;
-            let mut runner_ups: Vec<&Candidate> = step
-                .candidates
-                .iter()
-                .skip(1)
-                .chain(&step.held_back)
-                .collect();
-            runner_ups.sort_by(|a, b| a.score.total_cmp(&b.score));
-            // Only a runner-up that its round would have named had it come
-            // first (a look-alike closes about as much of the gap); one
-            // that fell short there does not replace the step's effect
-            // with the others in place.
-            let round_rms = p.rms(&step.residual_before, Some(true));
-            let alts: Vec<Effect> = runner_ups
-                .iter()
-                .take(2)
-                .filter(|c| enough_gain(c.effect, round_rms, c.rms, floor))
-                .map(|c| c.effect)
-                .filter(|&c| !fit::has_effect(&model, c))
-                .collect();
-            if alts.is_empty() {
-                continue;
-            }
-            show(&format!("swap check: {effect}"));
-            let base = refit_without(&p, &model, effect);
-            let base_r = p.residual(&base);
-            let bic_cur = bic(&p, rms, fit::params_of(&model).len());
-            let fits: Vec<Option<(f64, f64, Effect, Model)>> = alts
-                .par_iter()
-                .map(|&alt| {
-                    let fitted = fit_candidate(&p, &base, &base_r, alt)
-                        .filter(|m| sound_fit(&p, &base, m, alt))?;
-                    let a_rms = held_rms(&p, &fitted).0;
-                    let b = bic(&p, a_rms, fit::params_of(&fitted).len());
-                    Some((b, a_rms, alt, fitted))
-                })
-                .collect();
-            // Between `viscous` and `nonlinear_viscous` the rule of their
-            // round decides ([`nested_prefers`]), not the BIC alone: on
-            // the suite-like 6000102 (`viscous` hidden; draw 6000000–,
-            // version 9.4) this pass took `nonlinear_viscous` for a model
-            // error 5 % below `viscous`'s, where its round had kept
-            // `viscous`.
-            let error = |x: f64| residual::model_error(x, floor);
-            let mut best: Option<(f64, Effect, Model)> = None;
-            for (b, a_rms, alt, fitted) in fits.into_iter().flatten() {
-                let better = if nested(effect, alt) {
-                    nested_prefers(alt, error(a_rms), error(rms))
-                } else {
-                    b < bic_cur
-                };
-                if better && best.as_ref().is_none_or(|(bb, _, _)| b < *bb) {
-                    best = Some((b, alt, fitted));
-                }
-            }
-            if let Some((_, alt, m)) = best {
-                let (new_rms, new_r) = held_rms(&p, &m);
-                let errors = [rms, new_rms].map(|x| residual::model_error(x, floor));
-                swap_step(step, alt, &m, errors, &mut swapped);
-                model = m;
-                rms = new_rms;
-                r = new_r;
-            }
-        }
-    }
-    // `viscous` is `nonlinear_viscous` at n = 1: with the other steps in
-    // place, the general form is fitted again from the final model (see
-    // [`nonlinear_in_place_of_viscous`]) and taken by the rule its round
-    // uses ([`nested_prefers`]) with a lower held-out BIC.
-    if !fit::has_effect(&model, Effect::NonlinearViscous) && allowed(Effect::NonlinearViscous) {
-        if let Some(step) = steps.iter_mut().find(|s| s.effect == Effect::Viscous) {
-            show("nested check: viscous");
-            if let Some(m) = nonlinear_in_place_of_viscous(&p, &model) {
-                let (new_rms, new_r) = held_rms(&p, &m);
-                let errors = [rms, new_rms].map(|x| residual::model_error(x, floor));
-                let bic_cur = bic(&p, rms, fit::params_of(&model).len());
-                let bic_new = bic(&p, new_rms, fit::params_of(&m).len());
-                if nested_prefers(Effect::NonlinearViscous, errors[1], errors[0])
-                    && bic_new < bic_cur
-                {
-                    swap_step(step, Effect::NonlinearViscous, &m, errors, &mut swapped);
-                    model = m;
-                    rms = new_rms;
-                    r = new_r;
-                }
-            }
-        }
-    }
-    // Look-alikes at the break-aways: where a named effect has a
-    // look-alike the model lacks (`offset`, `asymmetry`), the two are
-    // compared peak against peak after each reversal and rest, where the
-    // weights discount the one place they differ (see [`breakaway`]). A
-    // decisive verdict for the look-alike replaces the named effect where
-    // the weighted residual does not tell the two apart (model errors
-    // within [`TIE_SHARE`] of the step's gap, as the report calls a tie);
-    // it does not overrule a clear difference sample by sample (a slow
-    // sinusoid of 2700000– whose peaks followed `asymmetry` had a model
-    // error of 0.040 N with it against 0.0032 N with `offset`).
-    let mut at_breakaways = Vec::new();
-    for step in steps.iter_mut().filter(|s| s.joint.is_none()) {
-        let effect = step.effect;
-        let Some(other) = look_alike(effect).filter(|&o| !fit::has_effect(&model, o)) else {
-            continue;
-        };
-        let Some(deps) = breakaway::judgeable(&p, &model) else {
-            continue;
-        };
-        show(&format!("break-away check: {effect}"));
-        let base = refit_without(&p, &model, effect);
-        let Some(alt) = fit_candidate(&p, &base, &p.residual(&base), other)
-            .filter(|m| sound_fit(&p, &base, m, other))
-        else {
-            continue;
-        };
-        let Some(verdict) = breakaway::compare(&p, &deps, &model, &alt) else {
-            continue;
-        };
-        at_breakaways.push((effect, other, verdict));
-        let (new_rms, new_r) = held_rms(&p, &alt);
-        let tie = (residual::model_error(new_rms, floor) - residual::model_error(rms, floor)).abs()
-            <= TIE_SHARE * step.rms_before;
-        if tie && verdict.decided() == Some(true) {
-            let errors = [rms, new_rms].map(|x| residual::model_error(x, floor));
-            swap_step(step, other, &alt, errors, &mut swapped);
-            model = alt;
-            rms = new_rms;
-            r = new_r;
-        }
-    }
-    let (simpler, more) = simplify(&p, model.clone(), true, &mut show);
-    let simplified = !more.is_empty();
-    if simplified {
-        model = simpler;
-        (rms, r) = held_rms(&p, &model);
-        dropped.extend(more);
-    }
-    // `offset` and `asymmetry` both named, where they are one shift: without
-    // a dip (`F0` and `a·Fc`, only their sum is identified) the one named
-    // later goes; with shifts that oppose each other ([`shifts_oppose`],
-    // version 8.6) the one whose refit without it is further from the
-    // data stays.
-    let both = [Effect::Offset, Effect::Asymmetry]
-        .into_iter()
-        .all(|e| fit::has_effect(&model, e));
-    let no_dip = both && simplified && !fit::has_effect(&model, Effect::Stribeck);
-    // How many of the two steps may go, the later first (it goes on a tie).
-    let may_go = if no_dip {
-        1
-    } else if shifts_oppose(&model) {
-        2
-    } else {
-        0
-    };
-    let goes = (0..steps.len())
-        .rev()
-        .filter(|&k| look_alike(steps[k].effect).is_some())
-        .take(may_go)
-        .map(|k| {
-            let refit = refit_without(&p, &model, steps[k].effect);
-            let fitted = held_rms(&p, &refit);
-            (k, refit, fitted)
-        })
-        .min_by(|a, b| a.2 .0.total_cmp(&b.2 .0));
-    if let Some((k, refit, (w_rms, w_r))) = goes {
-        let effect = steps.remove(k).effect;
-        pruned.push((
-            effect,
-            residual::model_error(w_rms, floor),
-            residual::model_error(rms, floor),
-        ));
-        (model, rms, r) = (refit, w_rms, w_r);
-    }
-    // Each named effect was sound when its round took it, but the refits
-    // beside later effects or without a dropped base part can run it
-    // degenerate (`nonlinear_viscous` to n = 1.001 beside `drift`). Such
-    // an effect is dropped with its reason, and not reported as found;
-    // `nonlinear_viscous` at n ≈ 1 is written as `viscous` (named in its
-    // place unless `viscous` is named already), and below n = 0.15 as a
-    // Coulomb level (version 8.8, [`nonlinear_viscous_as_coulomb`]). The
-    // model is refitted. So
-    // too an effect the refits took out altogether (σ = 0 after the dip
-    // at its bound was dropped: a named `viscous` with a gap twice the
-    // start's on development record 2100079).
-    let mut k = 0;
-    while k < steps.len() {
-        let effect = steps[k].effect;
-        let gone = (!fit::has_effect(&model, effect)).then(|| format!("{effect} fitted to zero"));
-        let Some(why) = degenerate(&p, &model, effect).or(gone) else {
-            k += 1;
-            continue;
-        };
-        show(&format!("degenerate after refits: {effect}"));
-        let before = residual::model_error(rms, floor);
-        let as_viscous = (effect == Effect::NonlinearViscous)
-            .then(|| nonlinear_viscous_as_viscous(&model))
-            .flatten();
-        let written = as_viscous.is_some();
-        let viscous_named = steps.iter().any(|s| s.effect == Effect::Viscous);
-        // A second Coulomb level goes into the dry friction, not away.
-        let as_coulomb = (effect == Effect::NonlinearViscous)
-            .then(|| nonlinear_viscous_as_coulomb(&model, typical_speed(&p)))
-            .flatten();
-        let folded = as_coulomb.is_some();
-        let next = as_viscous
-            .or(as_coulomb)
-            .unwrap_or_else(|| remove_effect(&model, effect, &p));
-        let params = fit::params_of(&next);
-        model = fit::fit(&p, &next, &params, &FitOptions::default(), &mut |_| {}).model;
-        (rms, r) = held_rms(&p, &model);
-        if written && !viscous_named {
-            let after = residual::model_error(rms, floor);
-            dropped.push((
-                effect,
-                format!("{why}: written as `viscous`, model error {before:.4e} N -> {after:.4e} N"),
-            ));
-            steps[k].effect = Effect::Viscous;
-            steps[k].model = model.clone();
-            k += 1;
-        } else {
-            let why = if written {
-                format!("{why}: merged into the named `viscous`")
-            } else if folded {
-                let after = residual::model_error(rms, floor);
-                format!("{why}: its force at the typical speed added to Fc and Fs, model error {before:.4e} N -> {after:.4e} N")
-            } else {
-                why
-            };
-            dropped.push((effect, why));
-            steps.remove(k);
-        }
-    }
+    let mut search = Search::new(&p, model, (rms, r), floor, dropped);
+    let (last_round, reshaped) = search.forward(rounds, &allowed, &mut show);
+    search.backward(&mut show);
+    search.swap(reshaped, &mut show);
+    search.nested_viscous(&allowed, &mut show);
+    let at_breakaways = search.at_breakaways(&mut show);
+    search.finish(&mut show);
+    let Search {
+        model,
+        rms,
+        r,
+        floor,
+        floor_estimate,
+        steps,
+        dropped,
+        pruned,
+        swapped,
+        ..
+    } = search;
     let model = tidy(&p, model);
     progress.finish();
     let still = p.valid().filter(|&i| p.still[i]).count();

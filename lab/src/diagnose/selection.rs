@@ -312,7 +312,7 @@ pub(super) fn prefer_nested(cands: &mut [Candidate], floor: f64) {
 /// ([`nested`]), is to be named in place of the other, from their model
 /// errors [N]: the general form where its error is [`NESTED_GAP_GAIN`]
 /// below the nested one's, `viscous` otherwise (the rule of
-/// [`prefer_nested`], wherever the two are compared). With both at the
+/// `prefer_nested`, wherever the two are compared). With both at the
 /// floor (model errors 0) this names the general form: version 9.8 named
 /// `viscous` there instead, gained one development record (6900153) and
 /// lost three of its fresh draw 7100000– (`nonlinear_viscous` hidden,
