@@ -2,6 +2,8 @@
 //! user reads.
 
 use super::*;
+use crate::format::short;
+use std::fmt::Write as _;
 
 /// The model as a JSON object with the MODEL.md §7 names.
 pub fn model_json(m: &Model) -> serde_json::Value {
@@ -170,9 +172,20 @@ pub(super) fn pct(before: f64, after: f64) -> String {
 
 /// The terminal text.
 pub fn report_text(rep: &Report, source: &str) -> String {
-    use crate::format::short;
-    use std::fmt::Write as _;
     let mut s = String::new();
+    write_measurement(rep, source, &mut s);
+    write_start(rep, &mut s);
+    for (k, st) in rep.steps.iter().enumerate() {
+        write_step(rep, k, st, &mut s);
+    }
+    write_outcome(rep, &mut s);
+    write_model(&rep.model, &mut s);
+    s
+}
+
+/// The record, the residual and its floor, and what was dropped or
+/// refitted before the candidates.
+fn write_measurement(rep: &Report, source: &str, s: &mut String) {
     let _ = writeln!(
         s,
         "{source}: {} samples, dt = {} s, position resolution {} m, window ±{} samples",
@@ -229,6 +242,10 @@ pub fn report_text(rep: &Report, source: &str) -> String {
             fit::MASS_MIN
         );
     }
+}
+
+/// The start model's gap and where it lies.
+fn write_start(rep: &Report, s: &mut String) {
     if let Some(g) = rep.given {
         let _ = writeln!(
             s,
@@ -269,82 +286,88 @@ pub fn report_text(rep: &Report, source: &str) -> String {
         .map(|(n, f)| format!("{n} {:.0} %", 100.0 * f))
         .collect();
     let _ = writeln!(s, "residual explained by: {}", list.join(", "));
-    for (k, st) in rep.steps.iter().enumerate() {
+}
+
+/// Step `k` (from 0): the effect, the gap before and after, ties, the
+/// break-away verdict, the runner-ups and the fitted parameters.
+fn write_step(rep: &Report, k: usize, st: &Step, s: &mut String) {
+    let _ = writeln!(
+        s,
+        "step {}: missing effect `{}` (lines up with {}, {:.0} % explained); adding it shrinks the gap from {} N to {} N ({}), ΔBIC {}",
+        k + 1,
+        st.effect,
+        st.signal.0,
+        100.0 * st.signal.1,
+        short(st.rms_before, 4),
+        short(st.rms_after, 4),
+        pct(st.rms_before, st.rms_after),
+        short(st.score, 4)
+    );
+    if let Some(other) = st.joint {
+        let alone: Vec<String> = [st.effect, other]
+            .iter()
+            .filter_map(|&e| st.candidates.iter().find(|c| c.effect == e))
+            .map(|c| {
+                format!(
+                    "{} {} N",
+                    c.effect,
+                    short(residual::model_error(c.rms, rep.floor), 3)
+                )
+            })
+            .collect();
         let _ = writeln!(
             s,
-            "step {}: missing effect `{}` (lines up with {}, {:.0} % explained); adding it shrinks the gap from {} N to {} N ({}), ΔBIC {}",
-            k + 1,
-            st.effect,
-            st.signal.0,
-            100.0 * st.signal.1,
-            short(st.rms_before, 4),
-            short(st.rms_after, 4),
-            pct(st.rms_before, st.rms_after),
-            short(st.score, 4)
+            "        fitted together with `{other}`: neither passed alone (model error alone: {}; the step's figures are the pair's)",
+            alone.join(", ")
         );
-        if let Some(other) = st.joint {
-            let alone: Vec<String> = [st.effect, other]
-                .iter()
-                .filter_map(|&e| st.candidates.iter().find(|c| c.effect == e))
-                .map(|c| {
-                    format!(
-                        "{} {} N",
-                        c.effect,
-                        short(residual::model_error(c.rms, rep.floor), 3)
-                    )
-                })
-                .collect();
-            let _ = writeln!(
-                s,
-                "        fitted together with `{other}`: neither passed alone (model error alone: {}; the step's figures are the pair's)",
-                alone.join(", ")
-            );
-        }
-        if let Some((other, mine, theirs)) = tied_look_alike(st, rep.floor) {
-            let _ = writeln!(
-                s,
-                "        `{other}` fits as well (model error {} vs {} N): the weighted residual does not tell them apart (they differ only in the Stribeck dip and at break-away)",
-                short(theirs, 4),
-                short(mine, 4)
-            );
-        }
-        let checked = rep
-            .at_breakaways
-            .iter()
-            .find(|(a, b, _)| *a == st.effect || *b == st.effect);
-        if let Some((a, b, v)) = checked {
-            let swapped = rep.swapped.iter().any(|(x, y, _, _)| (x, y) == (a, b));
-            let said = match v.decided() {
-                Some(true) if !swapped => {
-                    format!(
-                        "follow `{b}`, but sample by sample `{a}` fits clearly better and is kept"
-                    )
-                }
-                Some(true) => format!("follow `{b}`"),
-                Some(false) => format!("follow `{a}`"),
-                None if !v.consistent() => "follow neither model".to_string(),
-                None => "do not decide".to_string(),
-            };
-            let _ = writeln!(
-                s,
-                "        at the break-aways ({} departures after reversals and rests) the friction peaks {said}: lambda {} +- {} (0 `{a}`, 1 `{b}`)",
-                v.departures,
-                short(v.lambda, 3),
-                short(v.se, 2)
-            );
-        }
-        let others: Vec<String> = st
-            .candidates
-            .iter()
-            .skip(1)
-            .take(3)
-            .map(|c| format!("{} {} N", c.effect, short(c.rms, 3)))
-            .collect();
-        if !others.is_empty() {
-            let _ = writeln!(s, "        next best: {}", others.join(", "));
-        }
-        let _ = writeln!(s, "        fitted: {}", effect_params(&st.model, st.effect));
     }
+    if let Some((other, mine, theirs)) = tied_look_alike(st, rep.floor) {
+        let _ = writeln!(
+            s,
+            "        `{other}` fits as well (model error {} vs {} N): the weighted residual does not tell them apart (they differ only in the Stribeck dip and at break-away)",
+            short(theirs, 4),
+            short(mine, 4)
+        );
+    }
+    let checked = rep
+        .at_breakaways
+        .iter()
+        .find(|(a, b, _)| *a == st.effect || *b == st.effect);
+    if let Some((a, b, v)) = checked {
+        let swapped = rep.swapped.iter().any(|(x, y, _, _)| (x, y) == (a, b));
+        let said = match v.decided() {
+            Some(true) if !swapped => {
+                format!("follow `{b}`, but sample by sample `{a}` fits clearly better and is kept")
+            }
+            Some(true) => format!("follow `{b}`"),
+            Some(false) => format!("follow `{a}`"),
+            None if !v.consistent() => "follow neither model".to_string(),
+            None => "do not decide".to_string(),
+        };
+        let _ = writeln!(
+            s,
+            "        at the break-aways ({} departures after reversals and rests) the friction peaks {said}: lambda {} +- {} (0 `{a}`, 1 `{b}`)",
+            v.departures,
+            short(v.lambda, 3),
+            short(v.se, 2)
+        );
+    }
+    let others: Vec<String> = st
+        .candidates
+        .iter()
+        .skip(1)
+        .take(3)
+        .map(|c| format!("{} {} N", c.effect, short(c.rms, 3)))
+        .collect();
+    if !others.is_empty() {
+        let _ = writeln!(s, "        next best: {}", others.join(", "));
+    }
+    let _ = writeln!(s, "        fitted: {}", effect_params(&st.model, st.effect));
+}
+
+/// Why the search stopped, the swaps and drops after it, the best
+/// rejected candidate and the effects named.
+fn write_outcome(rep: &Report, s: &mut String) {
     if !rep.judged {
         let _ = writeln!(
             s,
@@ -414,7 +437,10 @@ pub fn report_text(rep: &Report, source: &str) -> String {
             restored.join(", ")
         );
     }
-    let m = &rep.model;
+}
+
+/// The final model by its MODEL.md §7 names.
+fn write_model(m: &Model, s: &mut String) {
     // The base parameters by their MODEL.md §7 names, each to its digits.
     let base = [
         ("mass", m.mass, 5),
@@ -434,7 +460,6 @@ pub fn report_text(rep: &Report, source: &str) -> String {
         let _ = write!(s, " effects {}", serde_json::Value::Object(effects));
     }
     s.push('\n');
-    s
 }
 
 /// Parameter list for `fit` output.
