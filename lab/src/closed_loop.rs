@@ -675,16 +675,9 @@ pub fn run_on(
         };
         u_ff = match compensator.feedforward {
             Feedforward::None => 0.0,
-            Feedforward::Coulomb => {
-                params.fc
-                    * if v_ref > 0.0 {
-                        1.0
-                    } else if v_ref < 0.0 {
-                        -1.0
-                    } else {
-                        0.0
-                    }
-            }
+            // Fc·sgn(v_ref), 0 at v_ref = 0.
+            Feedforward::Coulomb if v_ref == 0.0 => 0.0,
+            Feedforward::Coulomb => params.fc.copysign(v_ref as f32),
             Feedforward::Stribeck => model.steady_state(v_ref as f32),
             Feedforward::Presliding => ff
                 .update(&model, x_ref as f32, v_ref as f32)
@@ -701,18 +694,7 @@ pub fn run_on(
         }
         plant.step(u + setup.force_noise * noise.normal());
     }
-    let half = 0.5 / FREQUENCY;
-    let mut peak = 0.0f64;
-    for &(t, e) in &trace {
-        let since = t - (t / half).floor() * half;
-        let reversal = t - since;
-        if reversal >= WINDOW_START - 1e-9
-            && since <= REVERSAL_WINDOW + 1e-9
-            && reversal + REVERSAL_WINDOW < DURATION
-        {
-            peak = peak.max(e.abs());
-        }
-    }
+    let peak = peak_reversal_error(&trace);
     Ok(Figures {
         plant: plant_kind.name(),
         compensator: compensator.name(),
@@ -723,6 +705,25 @@ pub fn run_on(
         rms_effort: (sum_u2 / count.max(1) as f64).sqrt(),
         trace,
     })
+}
+
+/// The largest |e| [m] of `trace` ((t [s], e [m]) per period) within
+/// [`REVERSAL_WINDOW`] after each reversal of x_ref from [`WINDOW_START`]
+/// on (the last one only if its window ends within the run).
+fn peak_reversal_error(trace: &[(f64, f64)]) -> f64 {
+    let half = 0.5 / FREQUENCY;
+    let mut peak = 0.0f64;
+    for &(t, e) in trace {
+        let since = t - (t / half).floor() * half;
+        let reversal = t - since;
+        if reversal >= WINDOW_START - 1e-9
+            && since <= REVERSAL_WINDOW + 1e-9
+            && reversal + REVERSAL_WINDOW < DURATION
+        {
+            peak = peak.max(e.abs());
+        }
+    }
+    peak
 }
 
 /// Every run of the benchmark, in table order: both plants, every encoder
