@@ -251,8 +251,10 @@ pub(super) fn shift_levels(m: &mut Model, level: f64) {
     m.fs += level;
 }
 
-/// Starting models for adding `effect` to `m` (refitted from each).
-pub(super) fn candidate_starts(p: &Prepared, m: &Model, effect: Effect, r: &[f64]) -> Vec<Model> {
+/// The starts of `effect` itself on `m`: its parameters from a
+/// regression of the residual `r` on the effect's shape where it has one,
+/// or a small grid.
+fn effect_starts(p: &Prepared, m: &Model, effect: Effect, r: &[f64]) -> Vec<Model> {
     let mut out = Vec::new();
     let t_span = (p.t[p.len() - 1] - p.t[0]).max(1e-9);
     let with = |f: &dyn Fn(&mut Model)| {
@@ -365,6 +367,15 @@ pub(super) fn candidate_starts(p: &Prepared, m: &Model, effect: Effect, r: &[f64
             }
         }
     }
+    out
+}
+
+/// Starting models for adding `effect` to `m` (refitted from each): the
+/// effect's own starts ([`effect_starts`]), then the same again from a
+/// restarted base where the base fit lost its dip, its presliding
+/// distance or its shape to the missing effect.
+pub(super) fn candidate_starts(p: &Prepared, m: &Model, effect: Effect, r: &[f64]) -> Vec<Model> {
+    let mut out = effect_starts(p, m, effect, r);
     // A dip lost while the effect was missing (a symmetric dip cannot
     // follow an offset or an asymmetry, so the base fit ran it to Fs = Fc
     // or to a bound) does not come back in a local fit, and without it
