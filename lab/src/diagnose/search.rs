@@ -87,47 +87,9 @@ impl<'a> Search<'a> {
                     (self.rms, self.r) = held_rms(p, &self.model);
                 }
             }
-            let (mut cands, mut held_back) = (Vec::new(), Vec::new());
             let n_cur = fit::params_of(&self.model).len();
             let bic_cur = bic(p, self.rms, n_cur);
-            // Each missing effect is fitted on its own (in parallel; the
-            // results are taken in catalogue order below, as a sequential run
-            // would take them).
-            show(&format!(
-                "round {}: fitting {} candidates ({})",
-                round + 1,
-                missing.len(),
-                missing
-                    .iter()
-                    .map(|e| e.to_string())
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            ));
-            let mut fits: Vec<Option<(Effect, Model)>> = missing
-                .par_iter()
-                .map(|&effect| fit_candidate(p, &self.model, &self.r, effect).map(|m| (effect, m)))
-                .collect();
-            nonlinear_from_viscous(p, &self.model, &mut fits);
-            for (effect, fitted) in fits.into_iter().flatten() {
-                if !admissible(p, &fitted, effect) {
-                    continue;
-                }
-                let (c_rms, _) = held_rms(p, &fitted);
-                let score = bic(p, c_rms, fit::params_of(&fitted).len()) - bic_cur;
-                let candidate = Candidate {
-                    effect,
-                    rms: c_rms,
-                    score,
-                    model: fitted,
-                };
-                if dip_run_to_bound(&self.model, &candidate.model) {
-                    held_back.push(candidate);
-                } else {
-                    cands.push(candidate);
-                }
-            }
-            cands.sort_by(|a, b| a.score.total_cmp(&b.score));
-            held_back.sort_by(|a, b| a.score.total_cmp(&b.score));
+            let (mut cands, held_back) = self.candidates(round, &missing, bic_cur, show);
             // The floor's slow-motion part is the spread that the start
             // model's residual shows at the slow samples (see
             // `Prepared::set_error_weights`), which a missing effect can widen:
@@ -208,6 +170,60 @@ impl<'a> Search<'a> {
             self.r = new_r;
         }
         (last_round, reshaped)
+    }
+
+    /// Round `round`'s candidates: each of the `missing` effects fitted on
+    /// its own from the model so far, scored by held-out BIC against
+    /// `bic_cur`; those whose dip ran to a bound held back. Both sorted by
+    /// score.
+    fn candidates(
+        &self,
+        round: usize,
+        missing: &[Effect],
+        bic_cur: f64,
+        show: &mut dyn FnMut(&str),
+    ) -> (Vec<Candidate>, Vec<Candidate>) {
+        let p = self.p;
+        let (mut cands, mut held_back) = (Vec::new(), Vec::new());
+        // Each missing effect is fitted on its own (in parallel; the
+        // results are taken in catalogue order below, as a sequential run
+        // would take them).
+        show(&format!(
+            "round {}: fitting {} candidates ({})",
+            round + 1,
+            missing.len(),
+            missing
+                .iter()
+                .map(|e| e.to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        ));
+        let mut fits: Vec<Option<(Effect, Model)>> = missing
+            .par_iter()
+            .map(|&effect| fit_candidate(p, &self.model, &self.r, effect).map(|m| (effect, m)))
+            .collect();
+        nonlinear_from_viscous(p, &self.model, &mut fits);
+        for (effect, fitted) in fits.into_iter().flatten() {
+            if !admissible(p, &fitted, effect) {
+                continue;
+            }
+            let (c_rms, _) = held_rms(p, &fitted);
+            let score = bic(p, c_rms, fit::params_of(&fitted).len()) - bic_cur;
+            let candidate = Candidate {
+                effect,
+                rms: c_rms,
+                score,
+                model: fitted,
+            };
+            if dip_run_to_bound(&self.model, &candidate.model) {
+                held_back.push(candidate);
+            } else {
+                cands.push(candidate);
+            }
+        }
+        cands.sort_by(|a, b| a.score.total_cmp(&b.score));
+        held_back.sort_by(|a, b| a.score.total_cmp(&b.score));
+        (cands, held_back)
     }
 
     /// The backward pass: an added effect goes again where the model
@@ -442,6 +458,14 @@ impl<'a> Search<'a> {
     /// and `asymmetry` where they are one shift, named effects that the
     /// refits ran degenerate.
     pub fn finish(&mut self, show: &mut dyn FnMut(&str)) {
+        let simplified = self.simplify_base(show);
+        self.one_shift(simplified);
+        self.drop_degenerate(show);
+    }
+
+    /// Drops the base parts that are not identifiable ([`simplify`]);
+    /// whether any went.
+    fn simplify_base(&mut self, show: &mut dyn FnMut(&str)) -> bool {
         let p = self.p;
         let (simpler, more) = simplify(p, self.model.clone(), true, show);
         let simplified = !more.is_empty();
@@ -450,6 +474,13 @@ impl<'a> Search<'a> {
             (self.rms, self.r) = held_rms(p, &self.model);
             self.dropped.extend(more);
         }
+        simplified
+    }
+
+    /// `offset` and `asymmetry` both named where they are one shift
+    /// (`simplified`: the base lost a part, its dip perhaps).
+    fn one_shift(&mut self, simplified: bool) {
+        let p = self.p;
         // `offset` and `asymmetry` both named, where they are one shift: without
         // a dip (`F0` and `a·Fc`, only their sum is identified) the one named
         // later goes; with shifts that oppose each other ([`shifts_oppose`],
@@ -486,6 +517,12 @@ impl<'a> Search<'a> {
             ));
             (self.model, self.rms, self.r) = (refit, w_rms, w_r);
         }
+    }
+
+    /// Named effects that the refits ran degenerate: dropped with the
+    /// reason, or written as the simpler form.
+    fn drop_degenerate(&mut self, show: &mut dyn FnMut(&str)) {
+        let p = self.p;
         // Each named effect was sound when its round took it, but the refits
         // beside later effects or without a dropped base part can run it
         // degenerate (`nonlinear_viscous` to n = 1.001 beside `drift`). Such
