@@ -1,4 +1,4 @@
-//! The search for the missing effects, stage by stage (the rounds of
+//! The search for the missing effects, stage by stage (one pass of
 //! [`super::diagnose`]): the forward rounds of candidates, then the
 //! backward check, the swap pass, the nested check of `viscous`, the
 //! look-alikes at the break-aways and the final simplification. Each stage
@@ -13,11 +13,13 @@ pub(super) struct Search<'a> {
     p: &'a Prepared,
     /// The model so far.
     pub model: Model,
-    /// Its weighted held-out RMS [N] and its residual [N].
+    /// Its weighted held-out RMS [N].
     pub rms: f64,
+    /// Its residual [N] per sample.
     pub r: Vec<f64>,
-    /// The floor [N], and its estimate where the first round lowered it.
+    /// The floor [N] every model error is measured against.
     pub floor: f64,
+    /// The floor as first estimated [N], where the first round lowered it.
     pub floor_estimate: Option<f64>,
     /// The accepted steps.
     pub steps: Vec<Step>,
