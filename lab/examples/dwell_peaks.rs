@@ -120,6 +120,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let rests = generator_rests(&dir.join("rest_log.csv"))?;
         let (t, u, x) = (&rec.t, &rec.u, &rec.x);
         let n = t.len();
+        if n < 2 {
+            return Err(format!("{}: fewer than two samples", dir.display()).into());
+        }
         let dt = t[1] - t[0];
         let (window, lead) = ((WINDOW / dt) as usize, (LEAD / dt) as usize);
         let mut departures = Vec::new();
