@@ -34,7 +34,11 @@ struct Scored {
 /// The strings of a JSON array (empty when absent).
 fn names(v: &serde_json::Value) -> Vec<String> {
     v.as_array()
-        .map(|a| a.iter().filter_map(|s| s.as_str().map(String::from)).collect())
+        .map(|a| {
+            a.iter()
+                .filter_map(|s| s.as_str().map(String::from))
+                .collect()
+        })
         .unwrap_or_default()
 }
 
@@ -76,7 +80,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let extra = names(&truth["accept_extra"]);
         let named = names(&report["effects_added"]);
         let exact = hidden.iter().all(|h| named.contains(h))
-            && named.iter().all(|n| hidden.contains(n) || extra.contains(n));
+            && named
+                .iter()
+                .all(|n| hidden.contains(n) || extra.contains(n));
         let success = exact && (hidden.is_empty() || after <= 0.5 * before);
         let deflection = fc / k;
         let name = dir
