@@ -141,6 +141,7 @@ pub fn report_json(rep: &Report) -> String {
         },
         "valid_samples": rep.still.1,
         "mass_identified": !fit::mass_at_bound(&rep.model),
+        "lost_motion": lost_motion(&rep.model).map(|z| json!({"z_max": z, "counts": z / rep.resolution})),
         "base_refit": rep.base_refit,
         "dropped": rep.dropped.iter().map(|(n, why)| json!({"part": n.name(), "reason": why})).collect::<Vec<_>>(),
         "regions": rep.regions.iter().map(|r| json!({"regime": r.regime, "t_start": r.t_start, "t_end": r.t_end, "rms": r.rms})).collect::<Vec<_>>(),
@@ -429,6 +430,15 @@ fn write_outcome(rep: &Report, s: &mut String) {
     }
     let added: Vec<&str> = rep.effects_added().map(Effect::name).collect();
     let _ = writeln!(s, "effects added: [{}]", added.join(", "));
+    if let Some(z) = lost_motion(&rep.model) {
+        let _ = writeln!(
+            s,
+            "lost motion: the fitted presliding distance z_max = {} (m, or rad on a rotary axis; {:.0} encoder counts) exceeds {}, beyond a contact's presliding (1-100 µm) or a gear stage's lost motion (about 3e-4 rad): backlash or a compliant transmission between the encoder and the friction, which the catalogue does not model and the names above may stand in for",
+            short(z, 3),
+            z / rep.resolution,
+            short(LOST_MOTION, 1)
+        );
+    }
     let restored: Vec<&str> = rep.restored().map(Effect::name).collect();
     if !restored.is_empty() {
         let _ = writeln!(
