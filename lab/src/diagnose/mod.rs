@@ -1204,17 +1204,7 @@ mod tests {
     fn a_presliding_distance_of_millimetres_is_reported_as_lost_motion() {
         // The paper's Fig. 5 set (z_max = 10 µm) is presliding; the 11 mm a
         // compliant two-mass record of the generator fitted is not.
-        let mut m = Model {
-            mass: 1.0,
-            fc: 1.0,
-            fs: 1.5,
-            v_stribeck: 1e-3,
-            delta: 1.0,
-            sigma: 0.0,
-            z_max: 1e-5,
-            epsilon: 0.0,
-            effects: Default::default(),
-        };
+        let mut m = fig5_model();
         assert_eq!(lost_motion(&m), None);
         m.z_max = LOST_MOTION;
         assert_eq!(lost_motion(&m), None);
