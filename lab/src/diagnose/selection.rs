@@ -443,8 +443,8 @@ pub const NV_MIN_EXPONENT: f64 = 0.15;
 /// stage's lost motion an arc-minute or so (3e-4 rad); a fit of 1 mm or
 /// 1 mrad and more is lost motion between the encoder and the friction,
 /// backlash or a compliant transmission, that a model without it can only
-/// take into `z_max`. Reported ([`lost_motion`]), not dropped: without the
-/// long branch the fit is worse still. On the generator's compliant
+/// take into `z_max`. Reported ([`lost_motion`]), not dropped: the long
+/// branch is all the model has for that lost motion. On the generator's compliant
 /// two-mass records the fits reach 0.25–30 mm (lab/README.md, *Known
 /// gaps*).
 pub const LOST_MOTION: f64 = 1e-3;
