@@ -204,6 +204,9 @@ pub struct Overrides {
     pub stribeck_absent: Option<bool>,
     /// Record length [s] instead of the drawn one (tests use short records).
     pub duration: Option<f64>,
+    /// Zero-force pause [s] before each ramp of the `servo` family
+    /// ([`crate::excite::Context::ramp_pause`]); none by default.
+    pub ramp_pause: Option<f64>,
 }
 
 /// A drawn record (before the effect sizes are fitted to the visibility
@@ -552,6 +555,7 @@ pub fn draw(seed: u64, attempt: u32, kind: Kind, ov: &Overrides) -> Result<Draw,
         u_max: 4.0 * fs + 3.0 * f_targets,
         gains,
         vgains,
+        ramp_pause: ov.ramp_pause.unwrap_or(0.0),
     };
     Ok(Draw {
         seed,

@@ -102,6 +102,11 @@ pub struct Context {
     pub gains: (f64, f64, f64),
     /// Velocity-loop gains `(kv [N·s/m], ki [N/m])`.
     pub vgains: (f64, f64),
+    /// Open-loop zero-force pause [s] before each ramp of the `servo`
+    /// family (the servo lets go of the axis, which relaxes from its
+    /// holding force, then the ramp starts from 0), as the outside
+    /// generator's servo records have it; 0: the ramp starts at once.
+    pub ramp_pause: f64,
 }
 
 impl Context {
@@ -177,6 +182,12 @@ pub enum Seg {
         /// Longest ramp [s].
         t_max: f64,
     },
+    /// Open-loop release: the servo lets go of the axis, its last force
+    /// falling linearly to 0 over [`RELEASE`], then 0 until `dur` [s].
+    Release {
+        /// Length [s].
+        dur: f64,
+    },
     /// Open-loop `u = amp·sin(2π·f·τ)` over whole cycles.
     SineForce {
         /// Amplitude [N].
@@ -188,13 +199,19 @@ pub enum Seg {
     },
 }
 
+/// Time [s] over which a [`Seg::Release`] lets the force fall to 0.
+const RELEASE: f64 = 0.05;
+
 /// Longest distance of one plateau [m].
 const DIST_CAP: f64 = 0.08;
 
 /// Estimated length [s] of a segment (ramps by their nominal break time).
 fn est(seg: &Seg, ctx: &Context) -> f64 {
     match *seg {
-        Seg::Rest { dur } | Seg::Plateau { dur, .. } | Seg::Modulated { dur, .. } => dur,
+        Seg::Rest { dur }
+        | Seg::Release { dur }
+        | Seg::Plateau { dur, .. }
+        | Seg::Modulated { dur, .. } => dur,
         Seg::SineRef { freq, cycles, .. } | Seg::SineForce { freq, cycles, .. } => cycles / freq,
         Seg::MoveTo { vmax, acc, .. } => 2.0 * vmax / acc + 0.5,
         Seg::Ramp { rate, t_max, .. } => (1.2 * ctx.fs / rate.abs()).min(t_max) + 0.2,
@@ -474,6 +491,11 @@ fn ramps(
     shuffle(&mut order, rng);
     for (i, (t, dir)) in order.into_iter().enumerate() {
         q.push_back(Seg::Rest { dur: rests[i] });
+        if !varied && c.ramp_pause > 0.0 {
+            q.push_back(Seg::Release {
+                dur: c.ramp_pause.max(RELEASE),
+            });
+        }
         let rate = dir * c.fs / t;
         q.push_back(Seg::Ramp {
             rate,
@@ -609,6 +631,11 @@ impl Player {
                 a.x0 = y;
                 self.closed = false;
             }
+            Seg::Release { .. } => {
+                a.x0 = y;
+                a.u0 = self.u_last;
+                self.closed = false;
+            }
             Seg::MoveTo { target, vmax, acc } => {
                 let dist = target - self.x_ref;
                 let dir = dist.signum();
@@ -635,7 +662,10 @@ impl Player {
     fn finished(&self, a: &Active, k: usize, y: f64) -> bool {
         let tau = (k - a.k0) as f64 * DT;
         match a.seg {
-            Seg::Rest { dur } | Seg::Plateau { dur, .. } | Seg::Modulated { dur, .. } => tau >= dur,
+            Seg::Rest { dur }
+            | Seg::Release { dur }
+            | Seg::Plateau { dur, .. }
+            | Seg::Modulated { dur, .. } => tau >= dur,
             Seg::SineRef { freq, cycles, .. } | Seg::SineForce { freq, cycles, .. } => {
                 tau >= cycles / freq
             }
@@ -751,6 +781,7 @@ impl Player {
             match a.seg {
                 Seg::Ramp { rate, .. } => a.u0 + rate * tau,
                 Seg::SineForce { amp, freq, .. } => amp * (TAU * freq * tau).sin(),
+                Seg::Release { .. } => a.u0 * (1.0 - tau / RELEASE).max(0.0),
                 _ => 0.0,
             }
         };

@@ -60,6 +60,11 @@ enum Cmd {
         /// Record length [s] (default: drawn, 20–40 s).
         #[arg(long)]
         duration: Option<f64>,
+        /// Open-loop zero-force pause [s] before each ramp of a `servo`
+        /// record, as the outside generator's servo records have it
+        /// (default: none, the ramp starts as the servo lets go).
+        #[arg(long)]
+        ramp_pause: Option<f64>,
         /// Output directory.
         #[arg(long)]
         out: PathBuf,
@@ -207,11 +212,17 @@ fn record_cmd(
     plant: Option<String>,
     effects: Option<String>,
     kind: &str,
-    duration: Option<f64>,
+    (duration, ramp_pause): (Option<f64>, Option<f64>),
     out: &Path,
 ) -> Result<Result<(), String>, Usage> {
     let kind = parse_kind(kind)?;
     let mut ov = Overrides::default();
+    if let Some(p) = ramp_pause {
+        if !(p.is_finite() && (0.0..=5.0).contains(&p)) {
+            return Err(Usage(format!("bad --ramp-pause {p}: expected 0 … 5 s")));
+        }
+        ov.ramp_pause = Some(p);
+    }
     if let Some(f) = family {
         let names = Family::ALL.map(|f| f.name());
         ov.family = Some(by_name("family", &f, Family::from_name, &names)?);
@@ -340,8 +351,17 @@ fn main() -> ExitCode {
             effects,
             kind,
             duration,
+            ramp_pause,
             out,
-        } => record_cmd(seed, family, plant, effects, &kind, duration, &out),
+        } => record_cmd(
+            seed,
+            family,
+            plant,
+            effects,
+            &kind,
+            (duration, ramp_pause),
+            &out,
+        ),
         Cmd::Suite {
             seeds,
             kind,

@@ -16,6 +16,7 @@ fn ov(family: Family, plant: PlantKind, effects: &[Effect], duration: f64) -> Ov
         effects: Some(effects.to_vec()),
         stribeck_absent: None,
         duration: Some(duration),
+        ramp_pause: None,
     }
 }
 
@@ -133,6 +134,48 @@ fn servo_rests_hold_a_force() {
     }
     assert!(rests > 500, "rest samples {rests}");
     assert!(held > 100, "held {held} of {rests}");
+}
+
+#[test]
+fn a_ramp_pause_lets_go_of_the_axis_before_each_servo_ramp() {
+    let plain = ov(Family::Servo, PlantKind::Model, &[], 30.0);
+    let paused = Overrides {
+        ramp_pause: Some(0.25),
+        ..plain.clone()
+    };
+    let a = generate(5, Kind::Model, &plain).unwrap();
+    let b = generate(5, Kind::Model, &paused).unwrap();
+    // No pause asked: the record of version 9.7's draws, byte for byte.
+    let none = Overrides {
+        ramp_pause: Some(0.0),
+        ..plain.clone()
+    };
+    assert_eq!(
+        write::csv(&a),
+        write::csv(&generate(5, Kind::Model, &none).unwrap())
+    );
+    // Zero-force stretches of at least 0.15 s (the pause less its 50 ms
+    // release, and the noise band): one more per ramp (3 rates, both
+    // directions) with the pause.
+    let stretches = |g: &Generated| {
+        let (_, u, _) = check_time_csv(g);
+        let band = 5.0 * g.draw.noise_std;
+        let (mut n, mut run) = (0, 0);
+        for v in &u {
+            if v.abs() <= band {
+                run += 1;
+            } else {
+                n += usize::from(run >= 150);
+                run = 0;
+            }
+        }
+        n
+    };
+    assert_eq!(
+        stretches(&b),
+        stretches(&a) + 6,
+        "zero-force stretches with and without the pause"
+    );
 }
 
 #[test]

@@ -1,0 +1,528 @@
+//! Development aid: do the open-loop force ramps of a record tell a model
+//! with `dwell_stiction` from one without it? An open-loop ramp from a
+//! zero-force rest is the one stretch of a servo record where the force is
+//! not the servo's reaction to the motion: the axis creeps through
+//! presliding count by count while the force rises, and breaks away where
+//! its stiction level, raised by the rest before (MODEL.md §5), lets it.
+//! The lab's walk does not see that creep (it is still by the window rule,
+//! so the memory is re-anchored at the measured force at every sample).
+//!
+//! Each such ramp (at least 0.1 s of `|u|` within the noise band of zero,
+//! then `u` rising one way, as the outside generator's servo records end)
+//! is replayed: the plant `m·ẍ = u − F` integrated by semi-implicit Euler
+//! at [`SUB`] steps a sample from an idle memory at the start of the rest
+//! the counts show before the ramp (the position within 4 counts), so that
+//! the dwell clock has run as long, under zero force and then the ramp's
+//! least-squares line from where it crosses zero. The logged force's noise
+//! is the measurement's: replayed, it would turn the presliding memory back
+//! and forth at every dip, each new branch starting infinitely stiff
+//! (g'(0) = ∞), and hold the replayed axis back. The replayed count
+//! crossings (the first at a fraction φ of a count, chosen per ramp from a
+//! grid; counted from the ramp's start) are compared with the measured
+//! ones up to a travel of 1.5 `z_max` (`RAMP_TRAVEL=F`: F·`z_max`): the
+//! ramp's force at the replayed crossing time against that at the measured
+//! one [N]. The onset is continuous; a step onto an idle branch would ring
+//! in the replay.
+//!
+//! Then, per ramp, the stiction level is refitted alone (`Fs + Δ`, Δ by a
+//! golden-section search), and the levels of the ramps that take at least
+//! 0.1 s to reach `Fs` are regressed on `τ/(τ + γ)` with an intercept per
+//! direction, over a grid of γ, `τ` the time from the rest's start to the
+//! measured break-away (the travel reaching `z_max`): a slope near the
+//! truth's `ΔFs` says the ramps carry the dwell term, a flat one that they
+//! do not — provided the first model's other parameters are right, for the
+//! slow ramps are also the ones after the longest rests (lab/HISTORY.md,
+//! *Known gaps, as recorded*: on the development records the slope does
+//! not separate dwell records from others). With `RAMP_NESTED=1` the
+//! stiction level and `z_max` are also refitted on all creeping ramps
+//! together, without and with a dwell term at γ = 0.3, 1 and 3 s.
+//!
+//! `cargo run -p breakaway-lab --release --example ramp_replay -- DATA MODEL.toml...`
+//!
+//! Prints per ramp its start [s], direction, rate [N/s], `τ` [s] and, per
+//! model, the mean and rms of the force difference [N], and for the first
+//! model the refitted Δ [N] and its rms; then per model the rms over all
+//! crossings, and the regression of the first model's Δ. See lab/README.md,
+//! *Known gaps*.
+
+use breakaway_lab::data;
+use breakaway_lab::residual::{auto_window, Prepared};
+use breakaway_reference::{DwellStiction, Friction, Model};
+use std::path::Path;
+
+/// Shortest zero-force rest before a ramp [s].
+const MIN_ZERO: f64 = 0.1;
+/// Width of the band around a rest's position, in counts.
+const REST_COUNTS: f64 = 4.0;
+/// Travel compared, in `z_max` of the first model (overridden by the
+/// environment variable `RAMP_TRAVEL`).
+const TRAVEL: f64 = 1.5;
+/// Grid of the first crossing's fraction of a count.
+const PHASES: usize = 10;
+/// Integration steps per sample.
+const SUB: usize = 50;
+/// The γ grid of the regression [s].
+const GAMMAS: [f64; 8] = [0.05, 0.1, 0.2, 0.5, 1.0, 2.0, 5.0, 10.0];
+
+/// One open-loop ramp from a zero-force rest.
+struct Ramp {
+    /// First sample of the rest before it (the counts').
+    rest: usize,
+    /// First sample of the ramp.
+    start: usize,
+    /// One past its last sample.
+    end: usize,
+    /// Direction (±1).
+    dir: f64,
+    /// Slope [N/s] and intercept [N] of its least-squares line in time.
+    rate: f64,
+    /// Intercept [N] of that line.
+    u0: f64,
+}
+
+/// Slope and intercept of the least-squares line of `y` on `x`.
+fn line(x: &[f64], y: &[f64]) -> (f64, f64) {
+    let n = x.len() as f64;
+    let mx = x.iter().sum::<f64>() / n;
+    let my = y.iter().sum::<f64>() / n;
+    let sxx: f64 = x.iter().map(|a| (a - mx).powi(2)).sum();
+    let sxy: f64 = x.iter().zip(y).map(|(a, b)| (a - mx) * (b - my)).sum();
+    let b = sxy / sxx;
+    (b, my - b * mx)
+}
+
+fn ramps(t: &[f64], u: &[f64], x: &[f64], q: f64, noise: f64) -> Vec<Ramp> {
+    let n = u.len();
+    let peak = u.iter().fold(0.0f64, |a, &b| a.max(b.abs()));
+    let band = (5.0 * noise).max(0.005 * peak);
+    let dt = (t[n - 1] - t[0]) / (n - 1) as f64;
+    let min_zero = (MIN_ZERO / dt).ceil() as usize;
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i < n {
+        if u[i].abs() > band {
+            i += 1;
+            continue;
+        }
+        let zero = i;
+        while i < n && u[i].abs() <= band {
+            i += 1;
+        }
+        if i - zero < min_zero || i + 20 >= n {
+            continue;
+        }
+        let start = i;
+        let dir = u[(start + 5).min(n - 1)].signum();
+        let mut end = start + 1;
+        while end < n && dir * u[end] >= dir * u[end - 1] - 3.0 * noise - 0.02 * peak {
+            end += 1;
+        }
+        let (rate, u0) = line(&t[start..end], &u[start..end]);
+        // A ramp is a line: the servo's own force sweeps are not.
+        let off = (start..end)
+            .map(|k| (u[k] - u0 - rate * t[k]).powi(2))
+            .sum::<f64>()
+            / (end - start).max(1) as f64;
+        if end - start < 20 || dir * rate <= 0.0 || off.sqrt() > 3.0 * noise + 0.01 * peak {
+            continue;
+        }
+        let mut rest = zero;
+        while rest > 0 && (x[rest - 1] - x[zero]).abs() <= REST_COUNTS * q {
+            rest -= 1;
+        }
+        out.push(Ramp {
+            rest,
+            start,
+            end,
+            dir,
+            rate,
+            u0,
+        });
+        i = end;
+    }
+    out
+}
+
+/// The stiction level a ramp asks of the first model.
+struct Level {
+    /// Time [s] from the rest's start to the measured break-away.
+    tau: f64,
+    /// Refitted raise Δ of `Fs` [N].
+    delta: f64,
+    /// Direction (±1).
+    dir: f64,
+    /// Force rate [N/s].
+    rate: f64,
+}
+
+/// A ramp's measured count crossings and what a replay is compared on.
+struct Case<'a> {
+    ramp: &'a Ramp,
+    /// Time of the rest's start [s].
+    t0: f64,
+    /// Replayed span [s].
+    span: f64,
+    /// Sampling interval [s].
+    dt: f64,
+    /// Encoder count [m].
+    q: f64,
+    /// Measured crossings: count (from the ramp's start), time [s] since
+    /// `t0`.
+    crossings: Vec<(f64, f64)>,
+    /// Time [s] of the ramp's start since `t0`.
+    ramp_at: f64,
+}
+
+impl Case<'_> {
+    /// The replayed force at `tau` [s] since `t0`: the ramp's line from
+    /// where it crosses zero (a little before the sample where the logged
+    /// force leaves the noise band), zero before. The onset is continuous:
+    /// a step onto an idle branch, which starts infinitely stiff
+    /// (g'(0) = ∞), would ring in the replay and turn its memory.
+    fn force(&self, tau: f64) -> f64 {
+        let r = self.ramp;
+        let f = r.u0 + r.rate * (self.t0 + tau);
+        if r.dir * f > 0.0 {
+            f
+        } else {
+            0.0
+        }
+    }
+
+    /// The replayed positions [m] at every integration step, relative to
+    /// the rest's, with the step [s]; `None` if the replay runs off. The
+    /// memory starts idle at the rest's start with no force (at rest the
+    /// friction is the force: the dry part is anchored at minus the
+    /// additive terms); `drift` is rebased to that start, as the replay's
+    /// clock starts there.
+    fn replay(&self, m: &Model) -> Option<(Vec<f64>, f64)> {
+        let mut m = m.clone();
+        if let Some(d) = m.effects.drift.as_mut() {
+            let scale = 1.0 + d.beta * self.t0;
+            m.fc *= scale;
+            m.fs *= scale;
+            d.beta /= scale;
+        }
+        let m = &m;
+        let h = self.dt / SUB as f64;
+        let steps = (self.span / h).ceil() as usize;
+        let mut fr = Friction::new(m, 0.0, 0.0, 0.0);
+        let additive = fr.update(m, 0.0, 0.0, 0.0) - fr.dry();
+        fr.anchor(0.0, -additive);
+        let (mut x, mut v) = (0.0f64, 0.0f64);
+        let mut xs = Vec::with_capacity(steps + 1);
+        for k in 0..=steps {
+            let tau = k as f64 * h;
+            xs.push(x);
+            let f = fr.update(m, tau, x, v);
+            // Force held over each sample, as a digital controller does.
+            let held = self.force((tau / self.dt).floor() * self.dt);
+            v += (held - f) / m.mass * h;
+            x += v * h;
+            if !x.is_finite() {
+                return None;
+            }
+        }
+        Some((xs, h))
+    }
+
+    /// Mean and rms [N] of the force difference at the crossings, at the
+    /// best φ of the grid.
+    fn score(&self, m: &Model) -> Option<(f64, f64)> {
+        let (xs, h) = self.replay(m)?;
+        let r = self.ramp;
+        let first = ((self.ramp_at / h).round() as usize).min(xs.len() - 1);
+        let x0 = xs[first];
+        let mut best: Option<(f64, f64)> = None;
+        for ph in 0..PHASES {
+            let phi = (ph as f64 + 0.5) / PHASES as f64;
+            let (mut s1, mut s2) = (0.0, 0.0);
+            let mut j = first;
+            for &(c, tm) in &self.crossings {
+                let target = r.dir * x0 + (c - 1.0 + phi) * self.q;
+                while j < xs.len() && r.dir * xs[j] < target {
+                    j += 1;
+                }
+                let ts = (j as f64 * h).min(self.span);
+                let e = r.dir * (self.force(tm) - self.force(ts));
+                s1 += e;
+                s2 += e * e;
+            }
+            let n = self.crossings.len() as f64;
+            let rms = (s2 / n).sqrt();
+            if best.is_none_or(|b| rms < b.1) {
+                best = Some((s1 / n, rms));
+            }
+        }
+        best
+    }
+}
+
+/// The model with its stiction level raised by `delta` [N].
+fn raised(m: &Model, delta: f64) -> Model {
+    let mut m = m.clone();
+    m.fs = (m.fs + delta).max(m.fc);
+    m
+}
+
+/// The Δ [N] within `lo..hi` that minimises `f` (golden section), with
+/// `f` there.
+fn golden(mut lo: f64, mut hi: f64, f: impl Fn(f64) -> f64) -> (f64, f64) {
+    let r = 0.5 * (5f64.sqrt() - 1.0);
+    let (mut a, mut b) = (hi - r * (hi - lo), lo + r * (hi - lo));
+    let (mut fa, mut fb) = (f(a), f(b));
+    for _ in 0..24 {
+        if fa < fb {
+            hi = b;
+            b = a;
+            fb = fa;
+            a = hi - r * (hi - lo);
+            fa = f(a);
+        } else {
+            lo = a;
+            a = b;
+            fa = fb;
+            b = lo + r * (hi - lo);
+            fb = f(b);
+        }
+    }
+    if fa < fb {
+        (a, fa)
+    } else {
+        (b, fb)
+    }
+}
+
+/// Root-mean-square force difference [N] of `m` over the crossings of all
+/// `cases` (each at its best φ), or infinity where a replay runs off.
+fn pooled(cases: &[Case], m: &Model) -> f64 {
+    let (mut s2, mut n) = (0.0, 0usize);
+    for c in cases {
+        match c.score(m) {
+            Some((_, rms)) => {
+                s2 += rms * rms * c.crossings.len() as f64;
+                n += c.crossings.len();
+            }
+            None => return f64::INFINITY,
+        }
+    }
+    (s2 / n.max(1) as f64).sqrt()
+}
+
+/// The nested comparison (with `RAMP_NESTED` set) on the creeping ramps
+/// together: the stiction level
+/// and the presliding distance refitted without dwell (a), then with a
+/// dwell term at each γ of a short grid (b; `v_rest` so large that the
+/// clock runs from the rest's start through the creep).
+fn nested(cases: &[Case], m0: &Model) {
+    if cases.len() < 4 {
+        return;
+    }
+    let fit_a = |m: &Model| -> (Model, f64) {
+        let mut m = m.clone();
+        for _ in 0..3 {
+            let (d, _) = golden(-0.3 * m.fs, 0.3 * m.fs, |dl| pooled(cases, &raised(&m, dl)));
+            m = raised(&m, d);
+            let (k, _) = golden(0.5, 2.0, |k| {
+                let mut mk = m.clone();
+                mk.z_max *= k;
+                pooled(cases, &mk)
+            });
+            m.z_max *= k;
+        }
+        let rms = pooled(cases, &m);
+        (m, rms)
+    };
+    let (ma, rms_a) = fit_a(m0);
+    println!(
+        "nested, {} creeping ramps: without dwell Fs {:.4} z_max {:.3e} rms {rms_a:.4} N",
+        cases.len(),
+        ma.fs,
+        ma.z_max
+    );
+    for g in [0.3, 1.0, 3.0] {
+        let with = |m: &Model, dfs: f64| {
+            let mut m = m.clone();
+            m.effects.dwell_stiction = Some(DwellStiction {
+                delta_fs: dfs.max(0.0),
+                gamma: g,
+                v_rest: 1e3,
+            });
+            m
+        };
+        let mut m = ma.clone();
+        let mut dfs = 0.0;
+        for _ in 0..3 {
+            dfs = golden(0.0, m.fs, |v| pooled(cases, &with(&m, v))).0;
+            let (d, _) = golden(-0.5 * m.fs, 0.3 * m.fs, |dl| {
+                pooled(cases, &with(&raised(&m, dl), dfs))
+            });
+            m = raised(&m, d);
+            let (k, _) = golden(0.5, 2.0, |k| {
+                let mut mk = with(&m, dfs);
+                mk.z_max *= k;
+                pooled(cases, &mk)
+            });
+            m.z_max *= k;
+        }
+        let rms_b = pooled(cases, &with(&m, dfs));
+        println!(
+            "  with dwell, gamma {g:.1} s: Fs {:.4} dFs {dfs:.4} z_max {:.3e} rms {rms_b:.4} N (ratio {:.3})",
+            m.fs,
+            m.z_max,
+            rms_b / rms_a
+        );
+    }
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let Some((d, ms)) = args.split_first() else {
+        eprintln!("usage: ramp_replay DATA MODEL.toml...");
+        std::process::exit(2);
+    };
+    let rec = data::load(Path::new(d))?;
+    let models = ms
+        .iter()
+        .map(|m| Model::load(Path::new(m)))
+        .collect::<Result<Vec<_>, _>>()?;
+    let p = Prepared::with_window(&rec, auto_window(&rec));
+    let (t, u, x, q) = (&rec.t, &rec.u, &rec.x, p.resolution);
+    let z_counts = models[0].z_max / q;
+    let travel = std::env::var("RAMP_TRAVEL")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(TRAVEL);
+    let mut total = vec![(0.0f64, 0usize); models.len()];
+    let mut levels: Vec<Level> = Vec::new();
+    let all = ramps(t, u, x, q, p.force_noise);
+    let mut creeping: Vec<Case> = Vec::new();
+    for r in &all {
+        let counts = |i: usize| (r.dir * (x[i] - x[r.start]) / q).round();
+        let limit = (travel * z_counts).ceil();
+        let t0 = t[r.rest];
+        let mut crossings = Vec::new();
+        let mut last = 0.0;
+        let mut broke = None;
+        for (i, ti) in t.iter().enumerate().take(r.end).skip(r.start) {
+            let c = counts(i);
+            // The crossing lies between samples i − 1 and i.
+            let tm = ti - 0.5 * p.dt - t0;
+            if c > last && c <= limit {
+                crossings.push((c, tm));
+            }
+            if broke.is_none() && c >= z_counts {
+                broke = Some(tm);
+            }
+            last = last.max(c);
+        }
+        if crossings.len() < 3 {
+            continue;
+        }
+        let case = Case {
+            ramp: r,
+            t0,
+            span: t[r.end - 1] - t0,
+            dt: p.dt,
+            q,
+            crossings,
+            ramp_at: t[r.start] - t0,
+        };
+        let tau = broke.unwrap_or(case.span);
+        print!(
+            "{:8.3} dir {:+.0} rate {:8.2} N/s tau {:6.3} s crossings {:3}",
+            t[r.start],
+            r.dir,
+            r.rate,
+            tau,
+            case.crossings.len()
+        );
+        for (mi, m) in models.iter().enumerate() {
+            match case.score(m) {
+                Some((mean, rms)) => {
+                    print!(" | mean {mean:+.4} rms {rms:.4}");
+                    total[mi].0 += rms * rms * case.crossings.len() as f64;
+                    total[mi].1 += case.crossings.len();
+                }
+                None => print!(" | replay ran off"),
+            }
+        }
+        let m0 = &models[0];
+        let (delta, rms) = golden(-0.3 * m0.fs, 0.5 * m0.fs, |dl| {
+            case.score(&raised(m0, dl)).map_or(f64::INFINITY, |s| s.1)
+        });
+        println!(" | refit Δ {delta:+.4} rms {rms:.4}");
+        levels.push(Level {
+            tau,
+            delta,
+            dir: r.dir,
+            rate: r.rate,
+        });
+        if r.rate.abs() <= 10.0 * m0.fs {
+            creeping.push(case);
+        }
+    }
+    if std::env::var_os("RAMP_NESTED").is_some() {
+        nested(&creeping, &models[0]);
+    }
+    for (m, (s2, n)) in ms.iter().zip(&total) {
+        if *n > 0 {
+            println!(
+                "{m}: rms {:.4} N over {n} crossings",
+                (s2 / *n as f64).sqrt()
+            );
+        }
+    }
+    // The regression over the ramps slow enough to creep (the force takes
+    // at least 0.1 s to reach Fs: faster ones break away within a few
+    // samples, where the replay's dynamics, not the level, set the
+    // crossings), with an intercept per direction.
+    let slow: Vec<&Level> = levels
+        .iter()
+        .filter(|l| l.rate.abs() <= 10.0 * models[0].fs)
+        .collect();
+    if slow.len() >= 4 {
+        let ys: Vec<f64> = slow.iter().map(|l| l.delta).collect();
+        let mean = ys.iter().sum::<f64>() / ys.len() as f64;
+        let spread = (ys.iter().map(|y| (y - mean).powi(2)).sum::<f64>() / ys.len() as f64).sqrt();
+        println!(
+            "refitted Δ of {} over {} creeping ramps: mean {mean:+.4} N, spread {spread:.4} N",
+            ms[0],
+            slow.len()
+        );
+        for g in GAMMAS {
+            // Δ = a_dir + b·τ/(τ + γ): centre per direction, then one slope.
+            let centred = |f: &dyn Fn(&Level) -> f64| -> Vec<f64> {
+                slow.iter()
+                    .map(|l| {
+                        let same: Vec<f64> = slow
+                            .iter()
+                            .filter(|o| o.dir == l.dir)
+                            .map(|o| f(o))
+                            .collect();
+                        f(l) - same.iter().sum::<f64>() / same.len() as f64
+                    })
+                    .collect()
+            };
+            let xs = centred(&|l| l.tau / (l.tau + g));
+            let yc = centred(&|l| l.delta);
+            let sxx: f64 = xs.iter().map(|x| x * x).sum();
+            if sxx <= 0.0 {
+                continue;
+            }
+            let b = xs.iter().zip(&yc).map(|(x, y)| x * y).sum::<f64>() / sxx;
+            let dof = (slow.len() as f64 - 3.0).max(1.0);
+            let res2 = xs
+                .iter()
+                .zip(&yc)
+                .map(|(x, y)| (y - b * x).powi(2))
+                .sum::<f64>();
+            let se = (res2 / dof / sxx).sqrt();
+            println!(
+                "  gamma {g:5.2} s: slope {b:+.4} ± {se:.4} N, rms left {:.4} N",
+                (res2 / slow.len() as f64).sqrt()
+            );
+        }
+    }
+    Ok(())
+}
