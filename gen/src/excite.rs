@@ -183,7 +183,7 @@ pub enum Seg {
         t_max: f64,
     },
     /// Open-loop release: the servo lets go of the axis, its last force
-    /// falling linearly to 0 over [`RELEASE`], then 0 until `dur` [s].
+    /// falling linearly to 0 within 50 ms, then 0 until `dur` [s].
     Release {
         /// Length [s].
         dur: f64,
