@@ -145,7 +145,8 @@ fn a_ramp_pause_lets_go_of_the_axis_before_each_servo_ramp() {
     };
     let a = generate(5, Kind::Model, &plain).unwrap();
     let b = generate(5, Kind::Model, &paused).unwrap();
-    // No pause asked: the record of version 9.7's draws, byte for byte.
+    // A pause of 0 is no pause: the same bytes as without the option (the
+    // option only adds segments where it is above 0).
     let none = Overrides {
         ramp_pause: Some(0.0),
         ..plain.clone()
