@@ -74,7 +74,7 @@ struct Ramp {
     end: usize,
     /// Direction (±1).
     dir: f64,
-    /// Slope [N/s] and intercept [N] of its least-squares line in time.
+    /// Slope [N/s] of its least-squares line in time.
     rate: f64,
     /// Intercept [N] of that line.
     u0: f64,
@@ -91,6 +91,10 @@ fn line(x: &[f64], y: &[f64]) -> (f64, f64) {
     (b, my - b * mx)
 }
 
+/// The open-loop ramps of a record (times `t` [s], force `u` [N],
+/// positions `x` [m], count `q` [m], force noise std `noise` [N]): at least
+/// [`MIN_ZERO`] of `|u|` within the noise band, then a rise one way that a
+/// line follows to within the noise.
 fn ramps(t: &[f64], u: &[f64], x: &[f64], q: f64, noise: f64) -> Vec<Ramp> {
     let n = u.len();
     let peak = u.iter().fold(0.0f64, |a, &b| a.max(b.abs()));
