@@ -35,7 +35,9 @@
 //! *Known gaps, as recorded*: on the development records the slope does
 //! not separate dwell records from others). With `RAMP_NESTED=1` the
 //! stiction level and `z_max` are also refitted on all creeping ramps
-//! together, without and with a dwell term at γ = 0.3, 1 and 3 s.
+//! together, without and with a dwell term at γ = 0.3, 1 and 3 s; with
+//! `RAMP_HOLD=1` the replay starts from the hold instead (idle at its mean
+//! force, the release as a line to zero).
 //!
 //! `cargo run -p breakaway-lab --release --example ramp_replay -- DATA MODEL.toml...`
 //!
@@ -68,6 +70,11 @@ const GAMMAS: [f64; 8] = [0.05, 0.1, 0.2, 0.5, 1.0, 2.0, 5.0, 10.0];
 struct Ramp {
     /// First sample of the rest before it (the counts').
     rest: usize,
+    /// First sample of the release before the zero-force stretch (the
+    /// force falling monotonically to it).
+    release: usize,
+    /// First sample of the zero-force stretch.
+    zero: usize,
     /// First sample of the ramp.
     start: usize,
     /// One past its last sample.
@@ -134,8 +141,17 @@ fn ramps(t: &[f64], u: &[f64], x: &[f64], q: f64, noise: f64) -> Vec<Ramp> {
         while rest > 0 && (x[rest - 1] - x[zero]).abs() <= REST_COUNTS * q {
             rest -= 1;
         }
+        let mut release = zero;
+        while release > rest + 1
+            && u[release - 1].abs() > u[release].abs() - 3.0 * noise
+            && u[release - 1].abs() > band
+        {
+            release -= 1;
+        }
         out.push(Ramp {
             rest,
+            release,
+            zero,
             start,
             end,
             dir,
@@ -175,6 +191,10 @@ struct Case<'a> {
     crossings: Vec<(f64, f64)>,
     /// Time [s] of the ramp's start since `t0`.
     ramp_at: f64,
+    /// With `RAMP_HOLD`: the mean force of the hold [N] and the times [s]
+    /// since `t0` of the release's start and end (the replay starts from
+    /// the hold and lets go as the record does).
+    hold: Option<(f64, f64, f64)>,
 }
 
 impl Case<'_> {
@@ -184,6 +204,14 @@ impl Case<'_> {
     /// a step onto an idle branch, which starts infinitely stiff
     /// (g'(0) = ∞), would ring in the replay and turn its memory.
     fn force(&self, tau: f64) -> f64 {
+        if let Some((f, a, b)) = self.hold {
+            if tau < a {
+                return f;
+            }
+            if tau < b {
+                return f * (b - tau) / (b - a);
+            }
+        }
         let r = self.ramp;
         let f = r.u0 + r.rate * (self.t0 + tau);
         if r.dir * f > 0.0 {
@@ -212,7 +240,7 @@ impl Case<'_> {
         let steps = (self.span / h).ceil() as usize;
         let mut fr = Friction::new(m, 0.0, 0.0, 0.0);
         let additive = fr.update(m, 0.0, 0.0, 0.0) - fr.dry();
-        fr.anchor(0.0, -additive);
+        fr.anchor(0.0, self.hold.map_or(0.0, |h| h.0) - additive);
         let (mut x, mut v) = (0.0f64, 0.0f64);
         let mut xs = Vec::with_capacity(steps + 1);
         for k in 0..=steps {
@@ -398,6 +426,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .and_then(|s| s.parse().ok())
         .unwrap_or(TRAVEL);
     let mut total = vec![(0.0f64, 0usize); models.len()];
+    let hold = std::env::var_os("RAMP_HOLD").is_some();
     let mut levels: Vec<Level> = Vec::new();
     let all = ramps(t, u, x, q, p.force_noise);
     let mut creeping: Vec<Case> = Vec::new();
@@ -431,6 +460,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             q,
             crossings,
             ramp_at: t[r.start] - t0,
+            hold: (hold && r.release > r.rest).then(|| {
+                let f = u[r.rest..r.release].iter().sum::<f64>() / (r.release - r.rest) as f64;
+                (f, t[r.release] - t0, t[r.zero] - t0)
+            }),
         };
         let tau = broke.unwrap_or(case.span);
         print!(
