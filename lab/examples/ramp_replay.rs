@@ -48,6 +48,7 @@
 //! *Known gaps*.
 
 use breakaway_lab::data;
+use breakaway_lab::linalg::lstsq;
 use breakaway_lab::residual::{auto_window, Prepared};
 use breakaway_reference::{DwellStiction, Friction, Model};
 use std::path::Path;
@@ -83,19 +84,10 @@ struct Ramp {
     dir: f64,
     /// Slope [N/s] of its least-squares line in time.
     rate: f64,
-    /// Intercept [N] of that line.
+    /// That line's force [N] at the ramp's first sample.
     u0: f64,
-}
-
-/// Slope and intercept of the least-squares line of `y` on `x`.
-fn line(x: &[f64], y: &[f64]) -> (f64, f64) {
-    let n = x.len() as f64;
-    let mx = x.iter().sum::<f64>() / n;
-    let my = y.iter().sum::<f64>() / n;
-    let sxx: f64 = x.iter().map(|a| (a - mx).powi(2)).sum();
-    let sxy: f64 = x.iter().zip(y).map(|(a, b)| (a - mx) * (b - my)).sum();
-    let b = sxy / sxx;
-    (b, my - b * mx)
+    /// Time [s] of the ramp's first sample.
+    t_start: f64,
 }
 
 /// The open-loop ramps of a record (times `t` [s], force `u` [N],
@@ -128,10 +120,19 @@ fn ramps(t: &[f64], u: &[f64], x: &[f64], q: f64, noise: f64) -> Vec<Ramp> {
         while end < n && dir * u[end] >= dir * u[end - 1] - 3.0 * noise - 0.02 * peak {
             end += 1;
         }
-        let (rate, u0) = line(&t[start..end], &u[start..end]);
+        // The line by the lab's least squares, in the time since the
+        // ramp's start (the columns then have comparable scales).
+        let since: Vec<f64> = t[start..end].iter().map(|ti| ti - t[start]).collect();
+        let Some(c) = lstsq(&[vec![1.0; end - start], since.clone()], &u[start..end]) else {
+            i = end;
+            continue;
+        };
+        let (u0, rate) = (c[0], c[1]);
         // A ramp is a line: the servo's own force sweeps are not.
-        let off = (start..end)
-            .map(|k| (u[k] - u0 - rate * t[k]).powi(2))
+        let off = since
+            .iter()
+            .zip(&u[start..end])
+            .map(|(s, uk)| (uk - u0 - rate * s).powi(2))
             .sum::<f64>()
             / (end - start).max(1) as f64;
         if end - start < 20 || dir * rate <= 0.0 || off.sqrt() > 3.0 * noise + 0.01 * peak {
@@ -157,10 +158,19 @@ fn ramps(t: &[f64], u: &[f64], x: &[f64], q: f64, noise: f64) -> Vec<Ramp> {
             dir,
             rate,
             u0,
+            t_start: t[start],
         });
         i = end;
     }
     out
+}
+
+/// Whether a ramp of `rate` [N/s] is slow enough to creep under `m`: the
+/// force takes at least 0.1 s to reach `Fs` (faster ones break away within
+/// a few samples, where the replay's dynamics, not the level, set the
+/// crossings).
+fn creeps(rate: f64, m: &Model) -> bool {
+    rate.abs() <= 10.0 * m.fs
 }
 
 /// The stiction level a ramp asks of the first model.
@@ -213,7 +223,7 @@ impl Case<'_> {
             }
         }
         let r = self.ramp;
-        let f = r.u0 + r.rate * (self.t0 + tau);
+        let f = r.u0 + r.rate * (self.t0 + tau - r.t_start);
         if r.dir * f > 0.0 {
             f
         } else {
@@ -243,12 +253,15 @@ impl Case<'_> {
         fr.anchor(0.0, self.hold.map_or(0.0, |h| h.0) - additive);
         let (mut x, mut v) = (0.0f64, 0.0f64);
         let mut xs = Vec::with_capacity(steps + 1);
+        let mut held = 0.0;
         for k in 0..=steps {
             let tau = k as f64 * h;
             xs.push(x);
             let f = fr.update(m, tau, x, v);
             // Force held over each sample, as a digital controller does.
-            let held = self.force((tau / self.dt).floor() * self.dt);
+            if k % SUB == 0 {
+                held = self.force(tau);
+            }
             v += (held - f) / m.mass * h;
             x += v * h;
             if !x.is_finite() {
@@ -495,7 +508,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             dir: r.dir,
             rate: r.rate,
         });
-        if r.rate.abs() <= 10.0 * m0.fs {
+        if creeps(r.rate, m0) {
             creeping.push(case);
         }
     }
@@ -510,13 +523,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             );
         }
     }
-    // The regression over the ramps slow enough to creep (the force takes
-    // at least 0.1 s to reach Fs: faster ones break away within a few
-    // samples, where the replay's dynamics, not the level, set the
-    // crossings), with an intercept per direction.
+    // The regression over the ramps that creep, with an intercept per
+    // direction.
     let slow: Vec<&Level> = levels
         .iter()
-        .filter(|l| l.rate.abs() <= 10.0 * models[0].fs)
+        .filter(|l| creeps(l.rate, &models[0]))
         .collect();
     if slow.len() >= 4 {
         let ys: Vec<f64> = slow.iter().map(|l| l.delta).collect();
