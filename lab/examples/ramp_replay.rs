@@ -37,7 +37,12 @@
 //! stiction level and `z_max` are also refitted on all creeping ramps
 //! together, without and with a dwell term at γ = 0.3, 1 and 3 s; with
 //! `RAMP_HOLD=1` the replay starts from the hold instead (idle at its mean
-//! force, the release as a line to zero).
+//! force, the release as a line to zero). With `RAMP_STATIC=1` each ramp's
+//! stiction level is also estimated without a replay ([`static_level`]):
+//! the creep is quasi-static, so each measured crossing lies where the
+//! first model's virgin branch `S·g(w)` reaches the ramp's force; the
+//! slowest ramp's level less the next slowest one's, per direction, is
+//! what a dwell term raises.
 //!
 //! `cargo run -p breakaway-lab --release --example ramp_replay -- DATA MODEL.toml...`
 //!
@@ -303,6 +308,57 @@ impl Case<'_> {
     }
 }
 
+/// The stiction level `Fs'` [N] of one ramp read quasi-statically from its
+/// crossings (count from the ramp's start, time [s] since the rest's
+/// start) with the rms [N] left, or `None` with fewer than 4 crossings
+/// within `w_max·z_max`. The ramp starts a branch from the force it
+/// starts at (MODEL.md §3: a reversal after the release, `H_r` ≈ 0), and
+/// with inertia and the branch's own velocity negligible the force at a
+/// travel `s` is `F0 + d·S·g(s/z_max)`: `S` the Stribeck level of `m` at
+/// the creep's speed `v = z_max·|k|/(S·(−ln w))` (four fixed-point steps;
+/// `Fc` with `m`'s asymmetry), `F0` its offset. The first crossing lies a
+/// fraction φ of a count from the start (a grid); `Fs'` by golden section
+/// at each φ, the best pair kept.
+fn static_level(case: &Case, m: &Model, w_max: f64) -> Option<(f64, f64)> {
+    let r = case.ramp;
+    let f0 = m.effects.offset.as_ref().map_or(0.0, |o| o.f0);
+    let fc = m.fc * (1.0 + m.effects.asymmetry.as_ref().map_or(0.0, |a| a.a * r.dir));
+    let predicted = |fs1: f64, w: f64| {
+        let mut s = fs1;
+        for _ in 0..4 {
+            let stiff = (s * -w.min(1.0 - 1e-9).ln()).max(1e-12);
+            let v = m.z_max * r.rate.abs() / stiff;
+            s = fc + (fs1 - fc) * (-(v / m.v_stribeck).powf(m.delta)).exp();
+        }
+        f0 + r.dir * s * w * (1.0 - w.ln())
+    };
+    let mut best: Option<(f64, f64)> = None;
+    for ph in 0..PHASES {
+        let phi = (ph as f64 + 0.5) / PHASES as f64;
+        let points: Vec<(f64, f64)> = case
+            .crossings
+            .iter()
+            .map(|&(c, tm)| ((c - 1.0 + phi) * case.q / m.z_max, case.force(tm)))
+            .filter(|&(w, _)| w <= w_max)
+            .collect();
+        if points.len() < 4 {
+            continue;
+        }
+        let sq = |fs1: f64| {
+            points
+                .iter()
+                .map(|&(w, f)| (predicted(fs1, w) - f).powi(2))
+                .sum::<f64>()
+        };
+        let (fs1, s2) = golden(0.3 * m.fs, 3.0 * m.fs, sq);
+        let rms = (s2 / points.len() as f64).sqrt();
+        if best.is_none_or(|b| rms < b.1) {
+            best = Some((fs1, rms));
+        }
+    }
+    best
+}
+
 /// The model with its stiction level raised by `delta` [N].
 fn raised(m: &Model, delta: f64) -> Model {
     let mut m = m.clone();
@@ -443,6 +499,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut levels: Vec<Level> = Vec::new();
     let all = ramps(t, u, x, q, p.force_noise);
     let mut creeping: Vec<Case> = Vec::new();
+    let quasi_static = std::env::var_os("RAMP_STATIC").is_some();
+    // Direction, |rate| [N/s] and quasi-static level [N] per ramp.
+    let mut statics: Vec<(f64, f64, f64)> = Vec::new();
     for r in &all {
         let counts = |i: usize| (r.dir * (x[i] - x[r.start]) / q).round();
         let limit = (travel * z_counts).ceil();
@@ -501,7 +560,17 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let (delta, rms) = golden(-0.3 * m0.fs, 0.5 * m0.fs, |dl| {
             case.score(&raised(m0, dl)).map_or(f64::INFINITY, |s| s.1)
         });
-        println!(" | refit Δ {delta:+.4} rms {rms:.4}");
+        print!(" | refit Δ {delta:+.4} rms {rms:.4}");
+        if quasi_static {
+            match static_level(&case, m0, travel) {
+                Some((fs1, rms)) => {
+                    print!(" | static Fs' {fs1:.4} rms {rms:.4}");
+                    statics.push((r.dir, r.rate.abs(), fs1));
+                }
+                None => print!(" | static: too few crossings"),
+            }
+        }
+        println!();
         levels.push(Level {
             tau,
             delta,
@@ -510,6 +579,33 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         });
         if creeps(r.rate, m0) {
             creeping.push(case);
+        }
+    }
+    if quasi_static {
+        // Per direction the slowest ramp's level less the next slowest's.
+        let mut diffs = Vec::new();
+        for dir in [1.0, -1.0] {
+            let mut own: Vec<&(f64, f64, f64)> = statics.iter().filter(|s| s.0 == dir).collect();
+            own.sort_by(|a, b| a.1.total_cmp(&b.1));
+            if let [slow, next, ..] = own[..] {
+                diffs.push(slow.2 - next.2);
+                println!(
+                    "static, direction {dir:+.0}: slowest {:.2} N/s Fs' {:.4}, next {:.2} N/s Fs' {:.4}, difference {:+.4} N",
+                    slow.1,
+                    slow.2,
+                    next.1,
+                    next.2,
+                    slow.2 - next.2
+                );
+            }
+        }
+        if !diffs.is_empty() {
+            let mean = diffs.iter().sum::<f64>() / diffs.len() as f64;
+            println!(
+                "static difference, mean of {}: {mean:+.4} N ({:+.4} Fs)",
+                diffs.len(),
+                mean / models[0].fs
+            );
         }
     }
     if std::env::var_os("RAMP_NESTED").is_some() {
