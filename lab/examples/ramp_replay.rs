@@ -201,6 +201,10 @@ struct Case<'a> {
     dt: f64,
     /// Encoder count [m].
     q: f64,
+    /// Measured positions [m] at the rest's start and at the ramp's (a
+    /// position ripple is a function of where the axis is).
+    x_rest: f64,
+    x_start: f64,
     /// Measured crossings: count (from the ramp's start), time [s] since
     /// `t0`.
     crossings: Vec<(f64, f64)>,
@@ -236,8 +240,9 @@ impl Case<'_> {
         }
     }
 
-    /// The replayed positions [m] at every integration step, relative to
-    /// the rest's, with the step [s]; `None` if the replay runs off. The
+    /// The replayed positions [m] at every integration step, from the
+    /// measured one at the rest's start, with the step [s]; `None` if the
+    /// replay runs off. The
     /// memory starts idle at the rest's start with no force (at rest the
     /// friction is the force: the dry part is anchored at minus the
     /// additive terms); `drift` is rebased to that start, as the replay's
@@ -253,10 +258,10 @@ impl Case<'_> {
         let m = &m;
         let h = self.dt / SUB as f64;
         let steps = (self.span / h).ceil() as usize;
-        let mut fr = Friction::new(m, 0.0, 0.0, 0.0);
-        let additive = fr.update(m, 0.0, 0.0, 0.0) - fr.dry();
-        fr.anchor(0.0, self.hold.map_or(0.0, |h| h.0) - additive);
-        let (mut x, mut v) = (0.0f64, 0.0f64);
+        let mut fr = Friction::new(m, 0.0, self.x_rest, 0.0);
+        let additive = fr.update(m, 0.0, self.x_rest, 0.0) - fr.dry();
+        fr.anchor(self.x_rest, self.hold.map_or(0.0, |h| h.0) - additive);
+        let (mut x, mut v) = (self.x_rest, 0.0f64);
         let mut xs = Vec::with_capacity(steps + 1);
         let mut held = 0.0;
         for k in 0..=steps {
@@ -314,15 +319,21 @@ impl Case<'_> {
 /// within `w_max·z_max`. The ramp starts a branch from the force it
 /// starts at (MODEL.md §3: a reversal after the release, `H_r` ≈ 0), and
 /// with inertia and the branch's own velocity negligible the force at a
-/// travel `s` is `F0 + d·S·g(s/z_max)`: `S` the Stribeck level of `m` at
-/// the creep's speed `v = z_max·|k|/(S·(−ln w))` (four fixed-point steps;
-/// `Fc` with `m`'s asymmetry), `F0` its offset. The first crossing lies a
+/// travel `s` is `F0 + A·sin(2π·x/λ + φ) + d·S·g(s/z_max)`: `S` the
+/// Stribeck level of `m` at the creep's speed `v = z_max·|k|/(S·(−ln w))`
+/// (four fixed-point steps; `Fc` with `m`'s asymmetry), `F0` its offset,
+/// the ripple at the crossing's position. The first crossing lies a
 /// fraction φ of a count from the start (a grid); `Fs'` by golden section
 /// at each φ, the best pair kept.
 fn static_level(case: &Case, m: &Model, w_max: f64) -> Option<(f64, f64)> {
     let r = case.ramp;
     let f0 = m.effects.offset.as_ref().map_or(0.0, |o| o.f0);
     let fc = m.fc * (1.0 + m.effects.asymmetry.as_ref().map_or(0.0, |a| a.a * r.dir));
+    let ripple = |x: f64| {
+        m.effects.position_ripple.as_ref().map_or(0.0, |p| {
+            p.amplitude * (std::f64::consts::TAU * x / p.wavelength + p.phase).sin()
+        })
+    };
     let predicted = |fs1: f64, w: f64| {
         let mut s = fs1;
         for _ in 0..4 {
@@ -330,7 +341,8 @@ fn static_level(case: &Case, m: &Model, w_max: f64) -> Option<(f64, f64)> {
             let v = m.z_max * r.rate.abs() / stiff;
             s = fc + (fs1 - fc) * (-(v / m.v_stribeck).powf(m.delta)).exp();
         }
-        f0 + r.dir * s * w * (1.0 - w.ln())
+        let x = case.x_start + r.dir * w * m.z_max;
+        f0 + ripple(x) + r.dir * s * w * (1.0 - w.ln())
     };
     let mut best: Option<(f64, f64)> = None;
     for ph in 0..PHASES {
@@ -530,6 +542,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             span: t[r.end - 1] - t0,
             dt: p.dt,
             q,
+            x_rest: x[r.rest],
+            x_start: x[r.start],
             crossings,
             ramp_at: t[r.start] - t0,
             hold: (hold && r.release > r.rest).then(|| {
