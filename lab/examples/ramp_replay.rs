@@ -11,8 +11,9 @@
 //! then `u` rising one way, as the outside generator's servo records end)
 //! is replayed: the plant `m·ẍ = u − F` integrated by semi-implicit Euler
 //! at [`SUB`] steps a sample from an idle memory at the start of the rest
-//! the counts show before the ramp (the position within 4 counts), so that
-//! the dwell clock has run as long, under zero force and then the ramp's
+//! the counts show before the ramp ([`rest_start`]: through the release
+//! and the hold back to the last motion faster than the rest speed), so
+//! that the dwell clock has run as long, under zero force and then the ramp's
 //! least-squares line from where it crosses zero. The logged force's noise
 //! is the measurement's: replayed, it would turn the presliding memory back
 //! and forth at every dip, each new branch starting infinitely stiff
@@ -60,8 +61,9 @@ use std::path::Path;
 
 /// Shortest zero-force rest before a ramp [s].
 const MIN_ZERO: f64 = 0.1;
-/// Width of the band around a rest's position, in counts.
-const REST_COUNTS: f64 = 4.0;
+/// The rest speed, in Stribeck velocities `V` of the first model, where no
+/// model given has `dwell_stiction` (else the first such model's `v_rest`).
+const REST_SPEED: f64 = 0.1;
 /// Travel compared, in `z_max` of the first model (overridden by the
 /// environment variable `RAMP_TRAVEL`).
 const TRAVEL: f64 = 1.5;
@@ -99,7 +101,7 @@ struct Ramp {
 /// positions `x` [m], count `q` [m], force noise std `noise` [N]): at least
 /// [`MIN_ZERO`] of `|u|` within the noise band, then a rise one way that a
 /// line follows to within the noise.
-fn ramps(t: &[f64], u: &[f64], x: &[f64], q: f64, noise: f64) -> Vec<Ramp> {
+fn ramps(t: &[f64], u: &[f64], x: &[f64], q: f64, noise: f64, rest_speed: f64) -> Vec<Ramp> {
     let n = u.len();
     let peak = u.iter().fold(0.0f64, |a, &b| a.max(b.abs()));
     let band = (5.0 * noise).max(0.005 * peak);
@@ -143,10 +145,7 @@ fn ramps(t: &[f64], u: &[f64], x: &[f64], q: f64, noise: f64) -> Vec<Ramp> {
         if end - start < 20 || dir * rate <= 0.0 || off.sqrt() > 3.0 * noise + 0.01 * peak {
             continue;
         }
-        let mut rest = zero;
-        while rest > 0 && (x[rest - 1] - x[zero]).abs() <= REST_COUNTS * q {
-            rest -= 1;
-        }
+        let rest = rest_start(t, x, q, zero, rest_speed);
         let mut release = zero;
         while release > rest + 1
             && u[release - 1].abs() > u[release].abs() - 3.0 * noise
@@ -168,6 +167,33 @@ fn ramps(t: &[f64], u: &[f64], x: &[f64], q: f64, noise: f64) -> Vec<Ramp> {
         i = end;
     }
     out
+}
+
+/// The first sample of the rest that ends at `zero`, as a dwell clock with
+/// a rest speed of `speed` [m/s] sees it in the counts (times `t` [s],
+/// positions `x` [m], count `q` [m]): walking back over the count changes,
+/// the first one after a stretch the axis crossed faster than `speed` (a
+/// count in less than `q/speed`, or more than one count between two
+/// samples). The release before a ramp moves the axis back through
+/// presliding by up to a fraction of `z_max`, often several counts, and
+/// the hold before it is a rest as well.
+fn rest_start(t: &[f64], x: &[f64], q: f64, zero: usize, speed: f64) -> usize {
+    let mut later: Option<usize> = None;
+    for i in (1..=zero).rev() {
+        let step = ((x[i] - x[i - 1]).abs() / q).round();
+        if step == 0.0 {
+            continue;
+        }
+        if let Some(l) = later {
+            if step > 1.0 || q / (t[l] - t[i]) > speed {
+                return l;
+            }
+        } else if step > 1.0 {
+            return i;
+        }
+        later = Some(i);
+    }
+    later.unwrap_or(0)
 }
 
 /// Whether a ramp of `rate` [N/s] is slow enough to creep under `m`: the
@@ -509,7 +535,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut total = vec![(0.0f64, 0usize); models.len()];
     let hold = std::env::var_os("RAMP_HOLD").is_some();
     let mut levels: Vec<Level> = Vec::new();
-    let all = ramps(t, u, x, q, p.force_noise);
+    let rest_speed = models
+        .iter()
+        .find_map(|m| m.effects.dwell_stiction.as_ref().map(|d| d.v_rest))
+        .unwrap_or(REST_SPEED * models[0].v_stribeck);
+    let all = ramps(t, u, x, q, p.force_noise, rest_speed);
     let mut creeping: Vec<Case> = Vec::new();
     let quasi_static = std::env::var_os("RAMP_STATIC").is_some();
     // Direction, |rate| [N/s] and quasi-static level [N] per ramp.
