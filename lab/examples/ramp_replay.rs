@@ -36,7 +36,8 @@
 //! *Known gaps, as recorded*: on the development records the slope does
 //! not separate dwell records from others). With `RAMP_NESTED=1` the
 //! stiction level and `z_max` are also refitted on all creeping ramps
-//! together, without and with a dwell term at γ = 0.3, 1 and 3 s; with
+//! together, without and with a dwell term at γ = 0.3, 1 and 3 s (a
+//! profile over `ΔFs`, both refitted at each); with
 //! `RAMP_HOLD=1` the replay starts from the hold instead (idle at its mean
 //! force, the release as a line to zero). With `RAMP_STATIC=1` each ramp's
 //! stiction level is also estimated without a replay ([`static_level`]):
@@ -71,6 +72,9 @@ const TRAVEL: f64 = 1.5;
 const PHASES: usize = 10;
 /// Integration steps per sample.
 const SUB: usize = 50;
+/// The profile's `ΔFs`, in shares of the stiction level refitted without
+/// dwell (`RAMP_NESTED`).
+const DWELL_SHARES: [f64; 6] = [0.05, 0.1, 0.2, 0.3, 0.5, 0.8];
 /// The γ grid of the regression [s].
 const GAMMAS: [f64; 8] = [0.05, 0.1, 0.2, 0.5, 1.0, 2.0, 5.0, 10.0];
 
@@ -457,60 +461,62 @@ fn nested(cases: &[Case], m0: &Model) {
     if cases.len() < 4 {
         return;
     }
-    let fit_a = |m: &Model| -> (Model, f64) {
+    // The stiction level and z_max refitted, one after the other, with
+    // what `with` adds to the model.
+    let refit = |m: &Model, with: &dyn Fn(&Model) -> Model| -> Model {
         let mut m = m.clone();
         for _ in 0..3 {
-            let (d, _) = golden(-0.3 * m.fs, 0.3 * m.fs, |dl| pooled(cases, &raised(&m, dl)));
+            let (d, _) = golden(-0.6 * m.fs, 0.3 * m.fs, |dl| {
+                pooled(cases, &with(&raised(&m, dl)))
+            });
             m = raised(&m, d);
             let (k, _) = golden(0.5, 2.0, |k| {
-                let mut mk = m.clone();
+                let mut mk = with(&m);
                 mk.z_max *= k;
                 pooled(cases, &mk)
             });
             m.z_max *= k;
         }
-        let rms = pooled(cases, &m);
-        (m, rms)
+        m
     };
-    let (ma, rms_a) = fit_a(m0);
+    let ma = refit(m0, &|m: &Model| m.clone());
+    let rms_a = pooled(cases, &ma);
     println!(
         "nested, {} creeping ramps: without dwell Fs {:.4} z_max {:.3e} rms {rms_a:.4} N",
         cases.len(),
         ma.fs,
         ma.z_max
     );
+    // A profile over ΔFs, both refitted at each: the level and ΔFs trade
+    // against each other, which a descent that moves one at a time does
+    // not follow.
     for g in [0.3, 1.0, 3.0] {
-        let with = |m: &Model, dfs: f64| {
-            let mut m = m.clone();
-            m.effects.dwell_stiction = Some(DwellStiction {
-                delta_fs: dfs.max(0.0),
-                gamma: g,
-                v_rest: 1e3,
-            });
-            m
-        };
-        let mut m = ma.clone();
-        let mut dfs = 0.0;
-        for _ in 0..3 {
-            dfs = golden(0.0, m.fs, |v| pooled(cases, &with(&m, v))).0;
-            let (d, _) = golden(-0.5 * m.fs, 0.3 * m.fs, |dl| {
-                pooled(cases, &with(&raised(&m, dl), dfs))
-            });
-            m = raised(&m, d);
-            let (k, _) = golden(0.5, 2.0, |k| {
-                let mut mk = with(&m, dfs);
-                mk.z_max *= k;
-                pooled(cases, &mk)
-            });
-            m.z_max *= k;
+        let mut best: Option<(f64, Model, f64)> = None;
+        for share in DWELL_SHARES {
+            let dfs = share * ma.fs;
+            let with = |m: &Model| {
+                let mut m = m.clone();
+                m.effects.dwell_stiction = Some(DwellStiction {
+                    delta_fs: dfs,
+                    gamma: g,
+                    v_rest: 1e3,
+                });
+                m
+            };
+            let m = refit(&ma, &with);
+            let rms = pooled(cases, &with(&m));
+            if best.as_ref().is_none_or(|b| rms < b.2) {
+                best = Some((dfs, m, rms));
+            }
         }
-        let rms_b = pooled(cases, &with(&m, dfs));
-        println!(
-            "  with dwell, gamma {g:.1} s: Fs {:.4} dFs {dfs:.4} z_max {:.3e} rms {rms_b:.4} N (ratio {:.3})",
-            m.fs,
-            m.z_max,
-            rms_b / rms_a
-        );
+        if let Some((dfs, m, rms_b)) = best {
+            println!(
+                "  with dwell, gamma {g:.1} s: Fs {:.4} dFs {dfs:.4} z_max {:.3e} rms {rms_b:.4} N (ratio {:.3})",
+                m.fs,
+                m.z_max,
+                rms_b / rms_a
+            );
+        }
     }
 }
 
