@@ -80,6 +80,10 @@ enum Cmd {
         /// Worker threads (default: the available cores).
         #[arg(long)]
         jobs: Option<usize>,
+        /// Open-loop zero-force pause [s] before each ramp of every `servo`
+        /// record, as for `record` (default: none).
+        #[arg(long)]
+        ramp_pause: Option<f64>,
         /// Output directory.
         #[arg(long)]
         out: PathBuf,
@@ -206,6 +210,16 @@ fn summary_line(g: &Generated, secs: f64) -> String {
     )
 }
 
+/// `--ramp-pause`, checked: 0 … 5 s.
+fn checked_pause(pause: Option<f64>) -> Result<Option<f64>, Usage> {
+    match pause {
+        Some(p) if !(p.is_finite() && (0.0..=5.0).contains(&p)) => {
+            Err(Usage(format!("bad --ramp-pause {p}: expected 0 … 5 s")))
+        }
+        p => Ok(p),
+    }
+}
+
 fn record_cmd(
     seed: u64,
     family: Option<String>,
@@ -216,13 +230,10 @@ fn record_cmd(
     out: &Path,
 ) -> Result<Result<(), String>, Usage> {
     let kind = parse_kind(kind)?;
-    let mut ov = Overrides::default();
-    if let Some(p) = ramp_pause {
-        if !(p.is_finite() && (0.0..=5.0).contains(&p)) {
-            return Err(Usage(format!("bad --ramp-pause {p}: expected 0 … 5 s")));
-        }
-        ov.ramp_pause = Some(p);
-    }
+    let mut ov = Overrides {
+        ramp_pause: checked_pause(ramp_pause)?,
+        ..Overrides::default()
+    };
     if let Some(f) = family {
         let names = Family::ALL.map(|f| f.name());
         ov.family = Some(by_name("family", &f, Family::from_name, &names)?);
@@ -256,11 +267,15 @@ fn record_cmd(
 fn suite_cmd(
     seeds: &str,
     kind: &str,
-    jobs: Option<usize>,
+    (jobs, ramp_pause): (Option<usize>, Option<f64>),
     out: &Path,
 ) -> Result<Result<(), String>, Usage> {
     let seeds = parse_seeds(seeds)?;
     let kind = parse_kind(kind)?;
+    let ov = Overrides {
+        ramp_pause: checked_pause(ramp_pause)?,
+        ..Overrides::default()
+    };
     let jobs = match jobs {
         Some(0) => return Err(Usage("--jobs must be at least 1".into())),
         Some(j) => j,
@@ -290,7 +305,7 @@ fn suite_cmd(
                 let i = next.fetch_add(1, Ordering::SeqCst);
                 let Some(&seed) = seeds.get(i) else { break };
                 let t0 = Instant::now();
-                let r = record::generate(seed, kind, &Overrides::default()).and_then(|g| {
+                let r = record::generate(seed, kind, &ov).and_then(|g| {
                     let dir = out.join(g.name());
                     write::write(&g, &dir)?;
                     Ok((
@@ -366,8 +381,9 @@ fn main() -> ExitCode {
             seeds,
             kind,
             jobs,
+            ramp_pause,
             out,
-        } => suite_cmd(&seeds, &kind, jobs, &out),
+        } => suite_cmd(&seeds, &kind, (jobs, ramp_pause), &out),
     };
     match r {
         Err(Usage(msg)) => {

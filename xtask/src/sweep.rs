@@ -47,6 +47,9 @@ pub struct Options {
     pub to: u64,
     /// Record kind for the generator (`model`, `outside`, `steady`, `mixed`, `suite`).
     pub kind: String,
+    /// The generator's open-loop zero-force pause [s] before each ramp of a
+    /// `servo` record (`breakaway-gen --ramp-pause`; `None`: none).
+    pub ramp_pause: Option<f64>,
     /// Where the records and reports go.
     pub out: PathBuf,
     /// Where the JSON summary goes (also printed).
@@ -68,6 +71,11 @@ pub struct Args {
     /// The kind of record the generator draws
     #[arg(long, default_value = "mixed", value_parser = ["model", "outside", "steady", "mixed", "suite"])]
     kind: String,
+    /// Let the servo go of the axis for S seconds of zero force before each
+    /// open-loop ramp of a servo record, as the outside generator's
+    /// records do (the generator's `--ramp-pause`; default: no pause)
+    #[arg(long, value_name = "S")]
+    ramp_pause: Option<f64>,
     /// Where the records and reports go [default: target/sweep]
     #[arg(long, value_name = "DIR")]
     out: Option<PathBuf>,
@@ -94,6 +102,7 @@ impl Args {
             from: self.seeds.0,
             to: self.seeds.1,
             kind: self.kind,
+            ramp_pause: self.ramp_pause,
             out: self.out.unwrap_or_else(|| root().join("target/sweep")),
             json: self.json,
             lab: self.lab,
@@ -386,7 +395,8 @@ fn build() -> Result<PathBuf, String> {
 /// returns their folders, sorted.
 fn generate(bin: &Path, o: &Options) -> Result<Vec<PathBuf>, String> {
     std::fs::create_dir_all(&o.out).map_err(|e| format!("{}: {e}", o.out.display()))?;
-    run(Command::new(bin.join("breakaway-gen")).args([
+    let mut gen = Command::new(bin.join("breakaway-gen"));
+    gen.args([
         "suite",
         "--seeds",
         &format!("{}..{}", o.from, o.to),
@@ -394,7 +404,11 @@ fn generate(bin: &Path, o: &Options) -> Result<Vec<PathBuf>, String> {
         &o.kind,
         "--out",
         &o.out.display().to_string(),
-    ]))?;
+    ]);
+    if let Some(p) = o.ramp_pause {
+        gen.args(["--ramp-pause", &p.to_string()]);
+    }
+    run(&mut gen)?;
     let mut dirs: Vec<PathBuf> = std::fs::read_dir(&o.out)
         .map_err(|e| format!("{}: {e}", o.out.display()))?
         .filter_map(Result::ok)
@@ -886,6 +900,7 @@ pub fn smoke() -> Result<(), String> {
         from: SMOKE_SEEDS.0,
         to: SMOKE_SEEDS.1,
         kind: "model".into(),
+        ramp_pause: None,
         out: crate::target_dir().join("sweep-smoke"),
         json: None,
         lab: None,
@@ -939,6 +954,7 @@ pub fn smoke() -> Result<(), String> {
             from: seed,
             to: seed + 1,
             kind: kind.into(),
+            ramp_pause: None,
             out: out.clone(),
             json: None,
             lab: None,
