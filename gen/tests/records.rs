@@ -399,6 +399,8 @@ fn cli_rejects_bad_input_with_code_2() {
         vec!["suite", "--seeds", "5..3", "--out", out],
         vec!["suite", "--seeds", "a..b", "--out", out],
         vec!["suite", "--seeds", "1..3", "--kind", "odd", "--out", out],
+        vec!["record", "--seed", "1", "--ramp-pause", "9", "--out", out],
+        vec!["suite", "--seeds", "1..3", "--ramp-pause", "-1", "--out", out],
         vec!["bogus"],
     ] {
         let o = gen_cmd(&args);
@@ -423,6 +425,44 @@ fn cli_rejects_bad_input_with_code_2() {
     assert_eq!(o.status.code(), Some(0));
     for f in ["data.csv", "truth.toml", "truth.json"] {
         assert!(dir.join(f).is_file(), "{f}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_suite_with_a_ramp_pause_writes_the_records_of_record() {
+    let dir = std::env::temp_dir().join(format!("breakaway-gen-pause-{}", std::process::id()));
+    let (one, all) = (dir.join("one"), dir.join("all"));
+    let seed = "7600001";
+    let o = gen_cmd(&[
+        "record",
+        "--seed",
+        seed,
+        "--kind",
+        "suite",
+        "--ramp-pause",
+        "0.25",
+        "--out",
+        one.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0));
+    for pause in [Some("0.25"), None] {
+        let _ = std::fs::remove_dir_all(&all);
+        let mut args = vec!["suite", "--seeds", seed, "--kind", "suite"];
+        if let Some(p) = pause {
+            args.extend(["--ramp-pause", p]);
+        }
+        args.extend(["--out", all.to_str().unwrap()]);
+        assert_eq!(gen_cmd(&args).status.code(), Some(0));
+        let written = std::fs::read_dir(&all)
+            .unwrap()
+            .filter_map(Result::ok)
+            .find(|e| e.path().is_dir())
+            .unwrap()
+            .path();
+        let same = std::fs::read(written.join("data.csv")).unwrap()
+            == std::fs::read(one.join("data.csv")).unwrap();
+        assert_eq!(same, pause.is_some(), "{pause:?}");
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
