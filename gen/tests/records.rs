@@ -400,7 +400,15 @@ fn cli_rejects_bad_input_with_code_2() {
         vec!["suite", "--seeds", "a..b", "--out", out],
         vec!["suite", "--seeds", "1..3", "--kind", "odd", "--out", out],
         vec!["record", "--seed", "1", "--ramp-pause", "9", "--out", out],
-        vec!["suite", "--seeds", "1..3", "--ramp-pause", "-1", "--out", out],
+        vec![
+            "suite",
+            "--seeds",
+            "1..3",
+            "--ramp-pause",
+            "-1",
+            "--out",
+            out,
+        ],
         vec!["bogus"],
     ] {
         let o = gen_cmd(&args);
