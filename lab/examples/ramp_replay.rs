@@ -40,11 +40,12 @@
 //! profile over `ΔFs`, both refitted at each); with
 //! `RAMP_HOLD=1` the replay starts from the hold instead (idle at its mean
 //! force, the release as a line to zero). With `RAMP_STATIC=1` each ramp's
-//! stiction level is also estimated without a replay ([`static_level`]):
-//! the creep is quasi-static, so each measured crossing lies where the
-//! first model's virgin branch `S·g(w)` reaches the ramp's force; the
-//! slowest ramp's level less the next slowest one's, per direction, is
-//! what a dwell term raises.
+//! stiction level is also estimated without a replay ([`static_level`]),
+//! as if the creep were quasi-static: each measured crossing where the
+//! first model's virgin branch `S·g(w)` reaches the ramp's force (on the
+//! outside records the replay follows the slow ramps 2–5 times closer:
+//! inertia is not negligible there); the slowest ramp's level less the
+//! next slowest one's, per direction, is what a dwell term raises.
 //!
 //! `cargo run -p breakaway-lab --release --example ramp_replay -- DATA MODEL.toml...`
 //!
@@ -176,9 +177,9 @@ fn ramps(t: &[f64], u: &[f64], x: &[f64], q: f64, noise: f64, rest_speed: f64) -
 /// The first sample of the rest that ends at `zero`, as a dwell clock with
 /// a rest speed of `speed` [m/s] sees it in the counts (times `t` [s],
 /// positions `x` [m], count `q` [m]): walking back over the count changes,
-/// the first one after a stretch the axis crossed faster than `speed` (a
-/// count in less than `q/speed`, or more than one count between two
-/// samples). The release before a ramp moves the axis back through
+/// the first one after a count the axis crossed faster than `speed` (in
+/// less than `q/speed`), or the first sample after a jump of more than one
+/// count between two samples. The release before a ramp moves the axis back through
 /// presliding by up to a fraction of `z_max`, often several counts, and
 /// the hold before it is a rest as well.
 fn rest_start(t: &[f64], x: &[f64], q: f64, zero: usize, speed: f64) -> usize {
@@ -188,11 +189,14 @@ fn rest_start(t: &[f64], x: &[f64], q: f64, zero: usize, speed: f64) -> usize {
         if step == 0.0 {
             continue;
         }
+        // The count held from `i` to the next change was crossed fast.
         if let Some(l) = later {
-            if step > 1.0 || q / (t[l] - t[i]) > speed {
+            if q / (t[l] - t[i]) > speed {
                 return l;
             }
-        } else if step > 1.0 {
+        }
+        // A jump of counts: the rest begins after it.
+        if step > 1.0 {
             return i;
         }
         later = Some(i);
