@@ -58,7 +58,7 @@
 use breakaway_lab::data;
 use breakaway_lab::linalg::lstsq;
 use breakaway_lab::residual::{auto_window, Prepared};
-use breakaway_reference::{DwellStiction, Friction, Model};
+use breakaway_reference::{shape, stribeck_decay, DwellStiction, Friction, Model};
 use std::path::Path;
 
 /// Shortest zero-force rest before a ramp [s].
@@ -242,8 +242,6 @@ struct Case<'a> {
     /// Measured crossings: count (from the ramp's start), time [s] since
     /// `t0`.
     crossings: Vec<(f64, f64)>,
-    /// Time [s] of the ramp's start since `t0`.
-    ramp_at: f64,
     /// With `RAMP_HOLD`: the mean force of the hold [N] and the times [s]
     /// since `t0` of the release's start and end (the replay starts from
     /// the hold and lets go as the record does).
@@ -320,7 +318,7 @@ impl Case<'_> {
     fn score(&self, m: &Model) -> Option<(f64, f64)> {
         let (xs, h) = self.replay(m)?;
         let r = self.ramp;
-        let first = ((self.ramp_at / h).round() as usize).min(xs.len() - 1);
+        let first = (((r.t_start - self.t0) / h).round() as usize).min(xs.len() - 1);
         let x0 = xs[first];
         let mut best: Option<(f64, f64)> = None;
         for ph in 0..PHASES {
@@ -373,10 +371,10 @@ fn static_level(case: &Case, m: &Model, w_max: f64) -> Option<(f64, f64)> {
         for _ in 0..4 {
             let stiff = (s * -w.min(1.0 - 1e-9).ln()).max(1e-12);
             let v = m.z_max * r.rate.abs() / stiff;
-            s = fc + (fs1 - fc) * (-(v / m.v_stribeck).powf(m.delta)).exp();
+            s = fc + (fs1 - fc) * stribeck_decay(m.v_stribeck, m.delta, v);
         }
         let x = case.x_start + r.dir * w * m.z_max;
-        f0 + ripple(x) + r.dir * s * w * (1.0 - w.ln())
+        f0 + ripple(x) + r.dir * s * shape(w)
     };
     let mut best: Option<(f64, f64)> = None;
     for ph in 0..PHASES {
@@ -585,7 +583,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             x_rest: x[r.rest],
             x_start: x[r.start],
             crossings,
-            ramp_at: t[r.start] - t0,
             hold: (hold && r.release > r.rest).then(|| {
                 let f = u[r.rest..r.release].iter().sum::<f64>() / (r.release - r.rest) as f64;
                 (f, t[r.release] - t0, t[r.zero] - t0)
