@@ -71,6 +71,47 @@ fn named(rep: &serde_json::Value) -> Vec<String> {
     v
 }
 
+/// The static level of one report against the truth of `name`: what the
+/// report reads off the still samples (each direction's held level) never
+/// exceeds what the truth lets the axis hold (`Fs·(1 + |a|)`, plus `ΔFs`
+/// where dwell is hidden), and the written `Fs` is not below the level both
+/// directions held. On the whole of `servo_dwell` the axis held more than
+/// the truth's `Fs` (its dwell raise, in the slow ramps near its end), and
+/// the written `Fs` says so.
+fn check_static_level(name: &str, label: &str, rep: &serde_json::Value) {
+    let truth =
+        breakaway_reference::Model::load(&dir().join(format!("{name}.truth.toml"))).unwrap();
+    let e = &truth.effects;
+    let cap = truth.fs * (1.0 + e.asymmetry.map_or(0.0, |a| a.a.abs()))
+        + e.dwell_stiction.map_or(0.0, |d| d.delta_fs);
+    let level = &rep["static_level"];
+    let held: Vec<f64> = level["held"]
+        .as_array()
+        .expect("a static level")
+        .iter()
+        .map(|h| h.as_f64().expect("still samples both ways"))
+        .collect();
+    let written = rep["model"]["fs"].as_f64().unwrap();
+    println!(
+        "{label}: held {held:?} N, Fs fitted {} written {written} N, truth Fs {} (cap {cap}) N",
+        level["fs_fitted"], truth.fs
+    );
+    for h in &held {
+        assert!(
+            *h <= 1.01 * cap,
+            "{label}: held {h} N above the truth's {cap} N"
+        );
+    }
+    let both = held[0].min(held[1]);
+    assert!(
+        written >= 0.99 * both,
+        "{label}: Fs {written} N below the held {both} N"
+    );
+    if label == "servo_dwell" {
+        assert!(written > truth.fs, "{label}: Fs {written} N");
+    }
+}
+
 /// Checks one report against the truth of `name`: the effect-free and the
 /// `offset` and `frictional_lag` records named exactly (the gap at least
 /// halved where an effect is hidden); `servo_dwell` names nothing else.
@@ -87,6 +128,7 @@ fn check(name: &str, label: &str, rep: &serde_json::Value) -> bool {
         "{label}: hidden {truth:?}, named {got:?}, gap {before:.4} -> {after:.4} N, floor {:.4} N",
         rep["floor"].as_f64().unwrap()
     );
+    check_static_level(name, label, rep);
     if name == "servo_dwell" {
         assert!(got.is_empty() || got == truth, "{label}: named {got:?}");
         return got == truth;

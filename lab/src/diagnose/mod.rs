@@ -23,6 +23,9 @@
 //!    removes [`MIN_GAP_SHARE`] of the gap; repeated until none is, then
 //!    a backward and a swap pass. The search's stages, in the order
 //!    [`diagnose`] runs them, are the methods of `Search` (`search.rs`).
+//!    The names settled, the model's `Fs` is checked against what the
+//!    still samples held, and written at the held level where the fit put
+//!    it lower (`held.rs`).
 //! 5. **Report** (`report.rs`): JSON, text and the model in MODEL.md §7
 //!    names.
 
@@ -40,6 +43,7 @@ use std::f64::consts::PI;
 mod base;
 pub mod breakaway;
 mod candidates;
+mod held;
 mod localise;
 mod report;
 mod search;
@@ -49,6 +53,7 @@ use search::Search;
 
 pub use base::*;
 pub use candidates::*;
+pub use held::*;
 pub use localise::*;
 pub use report::*;
 pub use selection::*;
@@ -257,6 +262,10 @@ pub struct Report {
     /// (named effect, its look-alike, the verdict), whether or not it
     /// decided.
     pub at_breakaways: Vec<(Effect, Effect, breakaway::Verdict)>,
+    /// What the still samples say of the final model's static level, and
+    /// whether `Fs` was raised to it ([`held::pin`]); `None` with a given
+    /// start model or where no effect was judged.
+    pub static_level: Option<StaticLevel>,
     /// Where the residual concentrates before the first step.
     pub regions: Vec<Region>,
     /// RMS per regime before the first step.
@@ -727,12 +736,25 @@ fn run(
         ..
     } = search;
     let model = tidy(&p, model);
+    let (model, rms, r, static_level) = if start.is_none() && judged {
+        show("static level from the held force");
+        let (pinned, level) = pin(&p, &model);
+        if level.raised() {
+            let (rms, r) = held_rms(&p, &pinned);
+            (pinned, rms, r, Some(level))
+        } else {
+            (model, rms, r, Some(level))
+        }
+    } else {
+        (model, rms, r, None)
+    };
     progress.finish();
     let still = p.valid().filter(|&i| p.still[i]).count();
     Report {
         pruned,
         swapped,
         at_breakaways,
+        static_level,
         n: p.len(),
         half_width: p.kf,
         velocity_half_width: p.k,

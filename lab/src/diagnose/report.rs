@@ -141,6 +141,7 @@ pub fn report_json(rep: &Report) -> String {
         },
         "valid_samples": rep.still.1,
         "mass_identified": !fit::mass_at_bound(&rep.model),
+        "static_level": rep.static_level.map(|l| json!({"held": l.held, "fs_fitted": l.fitted, "fs_written": l.written, "raised": l.raised()})),
         "lost_motion": lost_motion(&rep.model).map(|z| json!({"z_max": z, "counts": z / rep.resolution})),
         "base_refit": rep.base_refit,
         "dropped": rep.dropped.iter().map(|(n, why)| json!({"part": n.name(), "reason": why})).collect::<Vec<_>>(),
@@ -167,6 +168,38 @@ pub fn report_json(rep: &Report) -> String {
     s
 }
 
+/// The static level the still samples show against the fitted `Fs`.
+fn write_static_level(rep: &Report, s: &mut String) {
+    let Some(l) = rep.static_level else {
+        return;
+    };
+    if !l.held.iter().any(|h| h.is_finite()) {
+        let _ = writeln!(s, "static level: no still samples to read it from");
+        return;
+    }
+    let [up, down] = l.held.map(|h| {
+        if h.is_finite() {
+            format!("{} N", short(h, 4))
+        } else {
+            "nothing".into()
+        }
+    });
+    let _ = if l.raised() {
+        writeln!(
+            s,
+            "static level: the still axis held {up} (+) and {down} (-) where the fit put Fs at {} N; Fs written at the held level, {} N, the rest refitted (the residual does not weigh still samples, so nothing else bounds Fs from below)",
+            short(l.fitted, 4),
+            short(l.written, 4)
+        )
+    } else {
+        writeln!(
+            s,
+            "static level: the still axis held {up} (+) and {down} (-), within Fs = {} N",
+            short(l.fitted, 4)
+        )
+    };
+}
+
 pub(super) fn pct(before: f64, after: f64) -> String {
     format!("{:.0} %", 100.0 * (before - after) / before)
 }
@@ -180,6 +213,7 @@ pub fn report_text(rep: &Report, source: &str) -> String {
         write_step(rep, k, st, &mut s);
     }
     write_outcome(rep, &mut s);
+    write_static_level(rep, &mut s);
     write_model(&rep.model, &mut s);
     s
 }

@@ -1,0 +1,186 @@
+//! The held force: the static level a still axis shows, against the
+//! fitted model's `Fs`.
+//!
+//! At a still sample the force balance gives the friction itself
+//! (`F = ū − m·â`, `â ≈ 0`), and without `dwell_stiction` MODEL.md §2–§5
+//! bound it: `|H| ≤ S(0) = Fs·sc`, so the friction an axis holds is at most
+//! `Fs·sc + F0 + A·sin(2π·x/λ + φ)` (`sc` the asymmetry and drift scale of
+//! the direction it holds in). The residual gives still samples no weight
+//! (they re-anchor the walk, [`Prepared::still`]) and discounts the
+//! break-aways, so nothing in the fit sees that bound, and on records of
+//! the independent generator the fitted `Fs` often lies below what the
+//! axis was seen to hold. A model that lets the axis slip under a force it
+//! held under-predicts every break-away; where the held force exceeds the
+//! fitted level in both directions, [`pin`] writes `Fs` at the held level
+//! and refits the rest of the model with it fixed.
+
+use super::*;
+
+/// Standard deviations of the force noise (`σ0`, that of the filtered
+/// residual) between the largest held force and the level read from it:
+/// the largest of some thousands of still samples carries about four of
+/// them.
+pub const HELD_MARGIN_SIGMAS: f64 = 5.0;
+
+/// Least rise of `Fs`, as a share of the fitted one, for [`pin`] to refit.
+pub const MIN_RAISE: f64 = 0.01;
+
+/// What the still samples say of the model's static level.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StaticLevel {
+    /// The static level [N] each direction's held force shows (`+`, `−`):
+    /// the largest held friction less the model's offset, ripple and dwell
+    /// raise, over the direction's asymmetry and drift scale, less
+    /// [`HELD_MARGIN_SIGMAS`]·`σ0`; `−∞` without still samples.
+    pub held: [f64; 2],
+    /// The fitted model's `Fs` [N].
+    pub fitted: f64,
+    /// The `Fs` written [N]: the fitted one, or the held level where
+    /// [`pin`] raised it.
+    pub written: f64,
+}
+
+impl StaticLevel {
+    /// The level both directions hold [N] (the smaller of the two: an
+    /// offset or asymmetry the model lacks raises one direction and lowers
+    /// the other, so the smaller never overstates `Fs`).
+    pub fn both(&self) -> f64 {
+        self.held[0].min(self.held[1])
+    }
+
+    /// Whether `Fs` was raised to the held level.
+    pub fn raised(&self) -> bool {
+        self.written > self.fitted
+    }
+}
+
+/// The held levels of `m` on `p` (see [`StaticLevel::held`]).
+pub fn held_levels(p: &Prepared, m: &Model) -> [f64; 2] {
+    let measured = p.filter_all(&p.u_mid);
+    let e = &m.effects;
+    let f0 = e.offset.map_or(0.0, |o| o.f0);
+    let a = e.asymmetry.map_or(0.0, |s| s.a);
+    let beta = e.drift.map_or(0.0, |d| d.beta);
+    let dwell = e.dwell_stiction.map_or(0.0, |d| d.delta_fs);
+    let margin = HELD_MARGIN_SIGMAS * p.sigma0;
+    let mut held = [f64::NEG_INFINITY; 2];
+    for i in p.valid().filter(|&i| p.still[i]) {
+        let ripple = e.position_ripple.map_or(0.0, |r| {
+            r.amplitude * (2.0 * PI * p.x[i] / r.wavelength + r.phase).sin()
+        });
+        let friction = measured[i] - m.mass * p.a[i] - f0 - ripple;
+        for (k, d) in [1.0, -1.0].into_iter().enumerate() {
+            let sc = (1.0 + a * d) * (1.0 + beta * p.t[i]);
+            if sc > 0.0 {
+                held[k] = held[k].max((d * friction - dwell - margin) / sc);
+            }
+        }
+    }
+    held
+}
+
+/// Presliding distances and Stribeck shapes [`pin`] refits from, as
+/// factors on the model's `V` and `z_max` and the exponent `δ` (`None`:
+/// the model's).
+const PIN_STARTS: [(f64, Option<f64>, f64); 5] = [
+    (1.0, None, 1.0),
+    (0.5, None, 1.0),
+    (2.0, None, 1.0),
+    (1.0, Some(1.0), 1.0),
+    (1.0, Some(2.0), 1.0),
+];
+
+/// `m` with `Fs` at the level its still samples hold in both directions,
+/// the other parameters refitted with `Fs − Fc` fixed (from the starts of
+/// `PIN_STARTS`, the best sound fit on the held-out blocks), where that
+/// level exceeds the fitted `Fs` by [`MIN_RAISE`]; with what the still
+/// samples showed. A model without a Stribeck dip (`Fs = Fc`, absent or
+/// dropped as not identifiable) is left as it is: a dip the motion cannot
+/// resolve is not written from the holds alone.
+pub fn pin(p: &Prepared, m: &Model) -> (Model, StaticLevel) {
+    let held = held_levels(p, m);
+    let mut level = StaticLevel {
+        held,
+        fitted: m.fs,
+        written: m.fs,
+    };
+    let target = level.both();
+    if !(fit::has_effect(m, Effect::Stribeck) && target > m.fs * (1.0 + MIN_RAISE)) {
+        return (m.clone(), level);
+    }
+    let params: Vec<Param> = fit::params_of(m)
+        .into_iter()
+        .filter(|q| *q != Param::FsExcess)
+        .collect();
+    let sound = |c: &Model| {
+        fit::effects_of(c)
+            .into_iter()
+            .all(|e| degenerate(p, c, e).is_none())
+    };
+    let best = PIN_STARTS
+        .par_iter()
+        .map(|&(v_factor, delta, z_factor)| {
+            let mut s = m.clone();
+            s.fs = target;
+            s.v_stribeck *= v_factor;
+            s.delta = delta.unwrap_or(s.delta);
+            s.z_max *= z_factor;
+            fit::fit(p, &s, &params, &FitOptions::default(), &mut |_| {}).model
+        })
+        .filter(sound)
+        .map(|c| (held_rms(p, &c).0, c))
+        .min_by(|a, b| a.0.total_cmp(&b.0));
+    match best {
+        Some((_, pinned)) => {
+            level.written = pinned.fs;
+            (pinned, level)
+        }
+        None => (m.clone(), level),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::reference::{Asymmetry, Offset};
+    use crate::residual::{tests::record, Window};
+
+    /// An axis held still (one count throughout) at +2 N for a second, then
+    /// at −1.5 N: each direction's level is its held force less the
+    /// model's offset and the margin, over its asymmetry scale (the
+    /// arithmetic, on a hand-made record).
+    #[test]
+    fn held_levels_read_each_direction_through_offset_and_asymmetry() {
+        let mut rec = record(2000, 1e-3, |_| 0.0);
+        rec.u = rec
+            .t
+            .iter()
+            .map(|&t| if t < 1.0 { 2.0 } else { -1.5 })
+            .collect();
+        let p = Prepared::with_window(
+            &rec,
+            Window {
+                velocity: 4,
+                force: 16,
+            },
+        );
+        assert!(p.valid().all(|i| p.still[i]));
+        let mut m = fig5_model();
+        m.effects.offset = Some(Offset { f0: 0.25 });
+        m.effects.asymmetry = Some(Asymmetry { a: 0.1 });
+        let margin = HELD_MARGIN_SIGMAS * p.sigma0;
+        let [up, down] = held_levels(&p, &m);
+        assert!((up - (2.0 - 0.25 - margin) / 1.1).abs() < 1e-9, "+: {up}");
+        assert!(
+            (down - (1.5 + 0.25 - margin) / 0.9).abs() < 1e-9,
+            "-: {down}"
+        );
+        let level = StaticLevel {
+            held: [up, down],
+            fitted: 1.0,
+            written: 1.0,
+        };
+        assert_eq!(level.both(), up.min(down));
+        assert!(!level.raised());
+    }
+}
