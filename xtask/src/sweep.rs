@@ -153,6 +153,9 @@ pub struct Scored {
     /// Per hidden effect, the model error [N] of the true model without
     /// that effect (same metric; `None` where it could not be measured).
     pub without_error: Vec<(String, Option<f64>)>,
+    /// The written model's `Fs` over the true model's, less 1 (`None`
+    /// where either is missing).
+    pub fs_error: Option<f64>,
 }
 
 /// Least relative rise of the true model's error when a hidden effect is
@@ -286,6 +289,17 @@ pub struct Truth {
     pub visibility: HashMap<String, Option<f64>>,
     /// Plant of the generator (`model` when absent).
     pub plant: Option<String>,
+    /// The true model's levels.
+    pub model: Option<Levels>,
+}
+
+/// The level of a model (in `truth.json` or a report) that the figure of
+/// the written `Fs` reads ([`FsAccuracy`]).
+#[derive(Clone, Copy, Debug, Deserialize)]
+pub struct Levels {
+    /// Stiction level `Fs` [N] (`None` when absent).
+    #[serde(default)]
+    pub fs: Option<f64>,
 }
 
 /// What the score reads of `breakaway-lab diagnose --json`.
@@ -298,6 +312,9 @@ pub struct Report {
     pub rms_before: Option<f64>,
     /// Gap after [N].
     pub rms_after: Option<f64>,
+    /// The model written.
+    #[serde(default)]
+    pub model: Option<Levels>,
 }
 
 /// Scores the report `report` against the truth `truth` (module doc).
@@ -307,6 +324,7 @@ pub fn score(name: &str, truth: Truth, report: Result<Report, String>) -> Scored
         accept_extra: extra,
         visibility: seen,
         plant,
+        model: truth_levels,
     } = truth;
     let visibility = hidden
         .iter()
@@ -331,6 +349,7 @@ pub fn score(name: &str, truth: Truth, report: Result<Report, String>) -> Scored
             failed: Some(e),
             true_model_error: None,
             without_error: Vec::new(),
+            fs_error: None,
         },
         Ok(rep) => {
             let named = rep.effects_added;
@@ -339,6 +358,13 @@ pub fn score(name: &str, truth: Truth, report: Result<Report, String>) -> Scored
                 let a = rep.rms_after.unwrap_or(f64::NAN);
                 1.0 - a / b
             });
+            let fs_error = match (
+                rep.model.and_then(|m| m.fs),
+                truth_levels.and_then(|m| m.fs),
+            ) {
+                (Some(w), Some(t)) if t > 0.0 => Some(w / t - 1.0),
+                _ => None,
+            };
             Scored {
                 name: name.into(),
                 plant,
@@ -351,6 +377,7 @@ pub fn score(name: &str, truth: Truth, report: Result<Report, String>) -> Scored
                 failed: None,
                 true_model_error: None,
                 without_error: Vec::new(),
+                fs_error,
             }
         }
     }
@@ -584,6 +611,8 @@ pub struct Summary {
     pub failed: Vec<Failed>,
     /// Effect-free records that named an effect.
     pub false_positives: usize,
+    /// The written `Fs` against the truth's.
+    pub fs_written: FsAccuracy,
     /// Median gap shrink of the records with hidden effects (null if none).
     pub median_shrink: f64,
     /// Records not named exactly with the gap halved.
@@ -602,6 +631,47 @@ pub struct Summary {
     pub per_plant: Vec<PerPlant>,
     /// Records scored.
     pub records: usize,
+}
+
+/// The written `Fs` against the true model's over the records of the
+/// MODEL.md plant without `dwell_stiction` hidden (there the level the
+/// axis holds is the truth's `Fs`): relative errors `Fs/Fs_true − 1`.
+#[derive(Debug, Serialize)]
+pub struct FsAccuracy {
+    /// Records written more than 5 % high.
+    pub high_by_5_percent: usize,
+    /// Records written more than 5 % low.
+    pub low_by_5_percent: usize,
+    /// Median of `|error|` (null if none).
+    pub median_abs_error: f64,
+    /// 90th percentile (nearest rank) of `|error|` (null if none).
+    pub p90_abs_error: f64,
+    /// Records with both levels.
+    pub records: usize,
+}
+
+impl FsAccuracy {
+    fn of(scored: &[Scored]) -> Self {
+        let errors: Vec<f64> = scored
+            .iter()
+            .filter(|s| s.plant == "model" && !s.hidden.iter().any(|h| h == "dwell_stiction"))
+            .filter_map(|s| s.fs_error)
+            .filter(|e| e.is_finite())
+            .collect();
+        let mut abs: Vec<f64> = errors.iter().map(|e| e.abs()).collect();
+        abs.sort_by(f64::total_cmp);
+        let rank = |q: f64| {
+            let k = (q * abs.len() as f64).ceil() as usize;
+            abs.get(k.max(1) - 1).copied().unwrap_or(f64::NAN)
+        };
+        FsAccuracy {
+            high_by_5_percent: errors.iter().filter(|e| **e > 0.05).count(),
+            low_by_5_percent: errors.iter().filter(|e| **e < -0.05).count(),
+            median_abs_error: median(abs.clone()),
+            p90_abs_error: rank(0.9),
+            records: errors.len(),
+        }
+    }
 }
 
 /// Hidden effects above a visibility, and how many were named.
@@ -839,6 +909,7 @@ pub fn summary(scored: &[Scored]) -> Summary {
             })
             .collect(),
         false_positives: nulls.iter().filter(|s| !s.named.is_empty()).count(),
+        fs_written: FsAccuracy::of(scored),
         median_shrink: median(scored.iter().filter_map(|s| s.shrink).collect()),
         misses_by_cause: MissCauses::count(misses.iter().map(|m| m.cause)),
         misses,
@@ -1146,6 +1217,7 @@ mod tests {
             failed: None,
             true_model_error: None,
             without_error: Vec::new(),
+            fs_error: None,
         }
     }
 
@@ -1216,6 +1288,9 @@ mod tests {
         s1.true_model_error = Some(0.1);
         // Without its offset the true model is 5× further off: seen.
         s1.without_error = vec![("offset".into(), Some(0.5))];
+        // Written 8 % low; the effect-free s2 1 % high; the LuGre s3 is
+        // not counted.
+        s1.fs_error = Some(-0.08);
         // The true model leaves 0.6 of a gap of 1: beyond the metric.
         let mut s3 = scored(
             "s3",
@@ -1228,12 +1303,10 @@ mod tests {
         // Without its offset only 2 % further off: not seen; drift not
         // measured.
         s3.without_error = vec![("offset".into(), Some(0.612)), ("drift".into(), None)];
-        let records = [
-            s1,
-            scored("s2", "model", &[], &["viscous"], None),
-            s3,
-            failed,
-        ];
+        s3.fs_error = Some(-0.5);
+        let mut s2 = scored("s2", "model", &[], &["viscous"], None);
+        s2.fs_error = Some(0.01);
+        let records = [s1, s2, s3, failed];
         let text = serde_json::to_string_pretty(&summary(&records)).unwrap();
         assert_eq!(text, EXPECTED_SUMMARY);
         // No shrink at all: the median is null, as before.
@@ -1261,6 +1334,13 @@ mod tests {
     }
   ],
   "false_positives": 1,
+  "fs_written": {
+    "high_by_5_percent": 0,
+    "low_by_5_percent": 1,
+    "median_abs_error": 0.08,
+    "p90_abs_error": 0.08,
+    "records": 2
+  },
   "median_shrink": 0.75,
   "misses": [
     {
@@ -1407,6 +1487,7 @@ mod tests {
         .unwrap();
         let s = score("s1", truth, Ok(report));
         assert!(s.exact() && s.success());
+        assert_eq!(s.fs_error, None, "no Fs in the report");
         assert_eq!(s.plant, "lugre");
         assert_eq!(s.visibility, vec![("offset".to_string(), 25.0)]);
         assert_eq!(s.shrink, Some(0.75));
@@ -1421,5 +1502,14 @@ mod tests {
         );
         let s = score("s3", Truth::default(), Err("failed".into()));
         assert_eq!(s.failed.as_deref(), Some("failed"));
+        // The written Fs against the truth's.
+        let truth: Truth =
+            serde_json::from_str(r#"{"hidden": [], "model": {"fc": 1.5, "fs": 2.0}}"#).unwrap();
+        let report: Report = serde_json::from_str(
+            r#"{"effects_added": [], "rms_before": 0.0, "rms_after": 0.0, "model": {"fs": 1.8}}"#,
+        )
+        .unwrap();
+        let fs_error = score("s4", truth, Ok(report)).fs_error.unwrap();
+        assert!((fs_error + 0.1).abs() < 1e-12, "{fs_error}");
     }
 }
