@@ -667,8 +667,8 @@ impl FsAccuracy {
         FsAccuracy {
             high_by_5_percent: errors.iter().filter(|e| **e > 0.05).count(),
             low_by_5_percent: errors.iter().filter(|e| **e < -0.05).count(),
-            median_abs_error: median(abs.clone()),
             p90_abs_error: rank(0.9),
+            median_abs_error: median(abs),
             records: errors.len(),
         }
     }

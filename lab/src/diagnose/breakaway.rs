@@ -161,11 +161,7 @@ pub fn compare(
     current: &Model,
     alternative: &Model,
 ) -> Option<Verdict> {
-    // The measured friction as the residual forms it: `W*ū − m·â`.
-    let mut measured = p.filter_all(&p.u_mid);
-    for i in p.valid() {
-        measured[i] -= current.mass * p.a[i];
-    }
+    let measured = p.measured_friction(current.mass);
     let cur = p.filter_all(&p.friction(current));
     let alt = p.filter_all(&p.friction(alternative));
     let peak = |s: &[f64], d: &Departure| {

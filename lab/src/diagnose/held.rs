@@ -56,7 +56,7 @@ impl StaticLevel {
 
 /// The held levels of `m` on `p` (see [`StaticLevel::held`]).
 pub fn held_levels(p: &Prepared, m: &Model) -> [f64; 2] {
-    let measured = p.filter_all(&p.u_mid);
+    let measured = p.measured_friction(m.mass);
     let e = &m.effects;
     let f0 = e.offset.map_or(0.0, |o| o.f0);
     let a = e.asymmetry.map_or(0.0, |s| s.a);
@@ -68,9 +68,12 @@ pub fn held_levels(p: &Prepared, m: &Model) -> [f64; 2] {
         let ripple = e.position_ripple.map_or(0.0, |r| {
             r.amplitude * (2.0 * PI * p.x[i] / r.wavelength + r.phase).sin()
         });
-        let friction = measured[i] - m.mass * p.a[i] - f0 - ripple;
+        let friction = measured[i] - f0 - ripple;
+        // Drift's time from the record's start, as the walk's `Friction`
+        // counts it.
+        let drift = 1.0 + beta * (p.t[i] - p.t[0]);
         for (k, d) in [1.0, -1.0].into_iter().enumerate() {
-            let sc = (1.0 + a * d) * (1.0 + beta * p.t[i]);
+            let sc = (1.0 + a * d) * drift;
             if sc > 0.0 {
                 held[k] = held[k].max((d * friction - dwell - margin) / sc);
             }
@@ -90,23 +93,23 @@ const PIN_STARTS: [(f64, Option<f64>, f64); 5] = [
     (1.0, Some(2.0), 1.0),
 ];
 
-/// `m` with `Fs` at the level its still samples hold in both directions,
+/// What the still samples of `p` show of `m`'s static level, and `m` with
+/// `Fs` at the level they hold in both directions,
 /// the other parameters refitted with `Fs − Fc` fixed (from the starts of
 /// `PIN_STARTS`, the best sound fit on the held-out blocks), where that
-/// level exceeds the fitted `Fs` by [`MIN_RAISE`]; with what the still
-/// samples showed. A model without a Stribeck dip (`Fs = Fc`, absent or
+/// level exceeds the fitted `Fs` by [`MIN_RAISE`] (`None`: `m` stands).
+/// A model without a Stribeck dip (`Fs = Fc`, absent or
 /// dropped as not identifiable) is left as it is: a dip the motion cannot
 /// resolve is not written from the holds alone.
-pub fn pin(p: &Prepared, m: &Model) -> (Model, StaticLevel) {
-    let held = held_levels(p, m);
+pub fn pin(p: &Prepared, m: &Model) -> (StaticLevel, Option<Model>) {
     let mut level = StaticLevel {
-        held,
+        held: held_levels(p, m),
         fitted: m.fs,
         written: m.fs,
     };
     let target = level.both();
     if !(fit::has_effect(m, Effect::Stribeck) && target > m.fs * (1.0 + MIN_RAISE)) {
-        return (m.clone(), level);
+        return (level, None);
     }
     let params: Vec<Param> = fit::params_of(m)
         .into_iter()
@@ -129,14 +132,12 @@ pub fn pin(p: &Prepared, m: &Model) -> (Model, StaticLevel) {
         })
         .filter(sound)
         .map(|c| (held_rms(p, &c).0, c))
-        .min_by(|a, b| a.0.total_cmp(&b.0));
-    match best {
-        Some((_, pinned)) => {
-            level.written = pinned.fs;
-            (pinned, level)
-        }
-        None => (m.clone(), level),
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+        .map(|(_, pinned)| pinned);
+    if let Some(pinned) = &best {
+        level.written = pinned.fs;
     }
+    (level, best)
 }
 
 #[cfg(test)]
@@ -182,5 +183,26 @@ mod tests {
         };
         assert_eq!(level.both(), up.min(down));
         assert!(!level.raised());
+        // Drift counts time from the record's start, as the walk does: the
+        // same record ten seconds later reads the same levels.
+        m.effects.drift = Some(crate::reference::Drift { beta: 0.02 });
+        let drifted = held_levels(&p, &m);
+        assert!(drifted[0] < up, "drift raises the scale: {drifted:?}");
+        let mut later = rec.clone();
+        later.t.iter_mut().for_each(|t| *t += 10.0);
+        let q = Prepared::with_window(
+            &later,
+            Window {
+                velocity: 4,
+                force: 16,
+            },
+        );
+        let shifted = held_levels(&q, &m);
+        for k in 0..2 {
+            assert!(
+                (shifted[k] - drifted[k]).abs() < 1e-9,
+                "{shifted:?} against {drifted:?}"
+            );
+        }
     }
 }

@@ -736,17 +736,19 @@ fn run(
         ..
     } = search;
     let model = tidy(&p, model);
-    let (model, rms, r, static_level) = if start.is_none() && judged {
+    let (static_level, pinned) = if start.is_none() && judged {
         show("static level from the held force");
-        let (pinned, level) = pin(&p, &model);
-        if level.raised() {
-            let (rms, r) = held_rms(&p, &pinned);
-            (pinned, rms, r, Some(level))
-        } else {
-            (model, rms, r, Some(level))
-        }
+        let (level, pinned) = pin(&p, &model);
+        (Some(level), pinned)
     } else {
-        (model, rms, r, None)
+        (None, None)
+    };
+    let (model, rms, r) = match pinned {
+        Some(m) => {
+            let (rms, r) = held_rms(&p, &m);
+            (m, rms, r)
+        }
+        None => (model, rms, r),
     };
     progress.finish();
     let still = p.valid().filter(|&i| p.still[i]).count();

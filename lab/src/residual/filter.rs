@@ -27,6 +27,16 @@ impl Prepared {
         r
     }
 
+    /// The measured friction as the residual forms it, `W*ū − m·â` [N],
+    /// for an axis of mass `mass` [kg] (0 outside the valid range).
+    pub fn measured_friction(&self, mass: f64) -> Vec<f64> {
+        let mut f = self.filter_all(&self.u_mid);
+        for i in self.valid() {
+            f[i] -= mass * self.a[i];
+        }
+        f
+    }
+
     /// [`Prepared::filter_at`] at every valid sample (0 elsewhere), with
     /// the loops exchanged: each sample's sum runs over the kernel in the
     /// same order (the same result to the last bit), and the inner loop
