@@ -392,32 +392,110 @@ fn with_dip_reset(p: &Prepared, base: &Model, fitted: &Model, effect: Effect) ->
 /// 276 named exactly, `nonlinear_viscous` detected on 3 more, one
 /// `viscous` record named `nonlinear_viscous` (n = 1.13) and one the other
 /// way round, no false positive added.
-fn nonlinear_from_viscous(p: &Prepared, base: &Model, fits: &mut Vec<Option<(Effect, Model)>>) {
+///
+/// Since version 10.1 the other way round too: `viscous` is fitted again
+/// from the fitted general form ([`viscous_from_nonlinear`]) and takes
+/// that fit when it is sound and closer. `viscous` has two starts against
+/// the general form's eight, and its fit could stop in a basin that the
+/// general one left through its extra starts: on the suite-like 7900051
+/// (`viscous` hidden at 44× the noise) the first round had `viscous` at
+/// 0.00303 N held-out rms against `nonlinear_viscous` (n = 0.57) at
+/// 0.00109 N, the floor 0.00105 N, and named the general form; `viscous`
+/// refitted from it reaches the floor and is named.
+fn seed_nested_pair(p: &Prepared, base: &Model, fits: &mut Vec<Option<(Effect, Model)>>) {
+    let to_nonlinear = |m: &Model| Some(viscous_as_nonlinear(m));
+    cross_seed(
+        p,
+        base,
+        fits,
+        (Effect::Viscous, Effect::NonlinearViscous),
+        &to_nonlinear,
+        true,
+    );
+    let speeds: Vec<f64> = p
+        .valid()
+        .map(|i| p.v[i].abs())
+        .filter(|s| *s > p.v_rest)
+        .collect();
+    let to_viscous = |m: &Model| viscous_from_nonlinear(m, &speeds);
+    cross_seed(
+        p,
+        base,
+        fits,
+        (Effect::NonlinearViscous, Effect::Viscous),
+        &to_viscous,
+        false,
+    );
+}
+
+/// `m`'s `nonlinear_viscous` term written as a level and viscous
+/// friction: `σ_n·|v|^n` over `speeds` [m/s] (the record's sliding
+/// speeds) regressed on `ΔF + σ'·|v|` by least squares, `ΔF` added to
+/// `Fc` and `Fs` and `σ'` to `σ`, every other parameter kept. The start
+/// from which `viscous` is fitted again where the general form fitted
+/// better (`None` when `m` holds no such term or without two distinct
+/// speeds).
+pub(super) fn viscous_from_nonlinear(m: &Model, speeds: &[f64]) -> Option<Model> {
+    let nv = m.effects.nonlinear_viscous?;
+    let n = speeds.len() as f64;
+    let (sx, sy) = speeds.iter().fold((0.0, 0.0), |(a, b), &v| {
+        (a + v, b + nv.sigma_n * v.powf(nv.n))
+    });
+    let (mx, my) = (sx / n, sy / n);
+    let (sxx, sxy) = speeds.iter().fold((0.0, 0.0), |(a, b), &v| {
+        let (dx, dy) = (v - mx, nv.sigma_n * v.powf(nv.n) - my);
+        (a + dx * dx, b + dx * dy)
+    });
+    if sxx.is_nan() || sxx <= 0.0 {
+        return None;
+    }
+    let slope = (sxy / sxx).max(0.0);
+    let mut c = m.clone();
+    c.sigma += slope;
+    candidates::shift_levels(&mut c, my - slope * mx);
+    c.effects.nonlinear_viscous = None;
+    Some(c)
+}
+
+/// Among a round's `fits`, `to` fitted again from the fit of `from`
+/// (`(from, to)`, the start converted by `convert`); the result takes
+/// `to`'s place when it is sound and closer on the held-out blocks than
+/// `to`'s own fit, or, with `add`, when `to` had none.
+fn cross_seed(
+    p: &Prepared,
+    base: &Model,
+    fits: &mut Vec<Option<(Effect, Model)>>,
+    (from, to): (Effect, Effect),
+    convert: &dyn Fn(&Model) -> Option<Model>,
+    add: bool,
+) {
     let slot = |fits: &[Option<(Effect, Model)>], e: Effect| {
         fits.iter()
             .position(|f| f.as_ref().is_some_and(|(x, _)| *x == e))
     };
-    let Some((_, viscous)) = slot(fits, Effect::Viscous).and_then(|k| fits[k].as_ref()) else {
+    let Some(start) = slot(fits, from)
+        .and_then(|k| fits[k].as_ref())
+        .and_then(|(_, m)| convert(m))
+    else {
         return;
     };
-    let start = viscous_as_nonlinear(viscous);
     let params = fit::params_of(&start);
-    let general = fit::fit(p, &start, &params, &FitOptions::default(), &mut |_| {}).model;
-    if !sound_fit(p, base, &general, Effect::NonlinearViscous) {
+    let again = fit::fit(p, &start, &params, &FitOptions::default(), &mut |_| {}).model;
+    if !sound_fit(p, base, &again, to) || !fit::has_effect(&again, to) {
         return;
     }
-    let rms = held_rms(p, &general).0;
-    let entry = Some((Effect::NonlinearViscous, general));
-    match slot(fits, Effect::NonlinearViscous) {
-        Some(k) => {
+    let rms = held_rms(p, &again).0;
+    let entry = Some((to, again));
+    match slot(fits, to) {
+        Some(k)
             if fits[k]
                 .as_ref()
-                .is_some_and(|(_, m)| held_rms(p, m).0 > rms)
-            {
-                fits[k] = entry;
-            }
+                .is_some_and(|(_, m)| held_rms(p, m).0 > rms) =>
+        {
+            fits[k] = entry;
         }
-        None => fits.push(entry),
+        None if add => fits.push(entry),
+        _ => {}
     }
 }
 
@@ -434,7 +512,7 @@ pub const NV_RESEED_EXPONENTS: [f64; 4] = [0.5, 0.75, 1.5, 2.0];
 /// speed `v_t`; the best sound fit (see [`fit_multistart`]), or `None`.
 ///
 /// The round that took `viscous` fitted `nonlinear_viscous` on the round's
-/// base, and from its `viscous` fit (`n = 1`, [`nonlinear_from_viscous`]),
+/// base, and from its `viscous` fit (`n = 1`, [`seed_nested_pair`]),
 /// but the levels and the dip move with later steps and refits, and in
 /// `n` the fit has local minima a start at `n = 1` does not leave: on the
 /// slow sinusoid 5900100 (`nonlinear_viscous` hidden, n = 1.49; mixed draw
@@ -576,7 +654,7 @@ impl Report {
     /// The catalogue effects the workflow added, each once, in the order
     /// first named. A step can take an effect the model already holds: the
     /// general form fitted from a round's `viscous` candidate
-    /// (`nonlinear_from_viscous`) replaces the model's own
+    /// (`seed_nested_pair`) replaces the model's own
     /// `nonlinear_viscous` when it fits better (on the fresh suite-like
     /// 7600051, n = 0.32 → 0.62, the gap 0.044 → 0.010 N), and `steps`
     /// then holds the effect twice; until this was mended the report
@@ -1104,7 +1182,7 @@ mod tests {
             Some((Effect::Viscous, viscous.clone())),
             Some((Effect::NonlinearViscous, poor)),
         ];
-        nonlinear_from_viscous(&p, &base, &mut fits);
+        seed_nested_pair(&p, &base, &mut fits);
         let Some((Effect::NonlinearViscous, general)) = fits[1].clone() else {
             panic!("{fits:?}");
         };
@@ -1112,13 +1190,85 @@ mod tests {
         let rms = held_rms(&p, &general).0;
         assert!(rms < 0.5 * poor_rms, "{rms} against {poor_rms}");
         // A closer fit already in place stays; without `viscous` nothing
-        // is fitted.
+        // is fitted in its place (nor added: `viscous` is seeded from the
+        // general form only where it was fitted itself).
         let before = fits.clone();
-        nonlinear_from_viscous(&p, &base, &mut fits);
-        assert_eq!(fits, before);
+        seed_nested_pair(&p, &base, &mut fits);
+        assert_eq!(fits[1], before[1]);
         let mut alone = vec![None, before[1].clone()];
-        nonlinear_from_viscous(&p, &base, &mut alone);
+        seed_nested_pair(&p, &base, &mut alone);
         assert_eq!(alone, vec![None, before[1].clone()]);
+    }
+
+    /// The other way round: on the plateaus with viscous friction
+    /// (σ = 60 N·s/m, 2.4 N at 40 mm/s), a `viscous` fit stuck with the
+    /// Coulomb level 30 % high and σ at a tenth, beside the
+    /// `nonlinear_viscous` candidate fitted from the Fig. 5 model, is
+    /// replaced by `viscous` refitted from the general form, at less than
+    /// half its held-out rms and within 5 % of the true σ.
+    #[test]
+    fn the_special_viscous_form_is_fitted_from_the_general_one() {
+        let mut truth = fig5_model();
+        truth.sigma = 60.0;
+        let p = plateau_record(&truth);
+        let base = fig5_model();
+        let general = fit_candidate(&p, &base, &p.residual(&base), Effect::NonlinearViscous)
+            .expect("a nonlinear_viscous fit");
+        let mut poor = base.clone();
+        poor.sigma = 6.0;
+        poor.fc *= 1.3;
+        let poor_rms = held_rms(&p, &poor).0;
+        let mut fits = vec![
+            Some((Effect::Viscous, poor)),
+            Some((Effect::NonlinearViscous, general.clone())),
+        ];
+        seed_nested_pair(&p, &base, &mut fits);
+        let Some((Effect::Viscous, viscous)) = fits[0].clone() else {
+            panic!("{fits:?}");
+        };
+        assert!(sound_fit(&p, &base, &viscous, Effect::Viscous));
+        let rms = held_rms(&p, &viscous).0;
+        assert!(rms < 0.5 * poor_rms, "{rms} against {poor_rms}");
+        assert!(
+            (viscous.sigma / truth.sigma - 1.0).abs() < 0.05,
+            "{viscous:?}"
+        );
+    }
+
+    /// The start of `viscous` from the general form: a term with n = 1 is
+    /// σ itself (no level moves); one with n = 0.5 becomes the least-squares
+    /// line through `σ_n·|v|^n` over the speeds, so the converted force
+    /// `ΔF + σ'·|v|` leaves residuals of zero mean and no slope.
+    #[test]
+    fn viscous_from_nonlinear_is_the_least_squares_line() {
+        let speeds: Vec<f64> = (1..=40).map(|k| 1e-3 * f64::from(k)).collect();
+        let mut m = fig5_model();
+        m.effects.nonlinear_viscous = Some(NonlinearViscous {
+            sigma_n: 3.0,
+            n: 1.0,
+        });
+        let c = viscous_from_nonlinear(&m, &speeds).expect("a conversion");
+        assert!(
+            (c.sigma - 3.0).abs() < 1e-12 && (c.fc - m.fc).abs() < 1e-12,
+            "{c:?}"
+        );
+        assert!(c.effects.nonlinear_viscous.is_none());
+        m.effects.nonlinear_viscous = Some(NonlinearViscous {
+            sigma_n: 2.0,
+            n: 0.5,
+        });
+        let c = viscous_from_nonlinear(&m, &speeds).expect("a conversion");
+        let level = c.fc - m.fc;
+        assert!((c.fs - m.fs - level).abs() < 1e-12);
+        let r: Vec<f64> = speeds
+            .iter()
+            .map(|v| 2.0 * v.sqrt() - level - c.sigma * v)
+            .collect();
+        let mean = r.iter().sum::<f64>() / r.len() as f64;
+        let slope: f64 = r.iter().zip(&speeds).map(|(r, v)| r * v).sum();
+        assert!(mean.abs() < 1e-12 && slope.abs() < 1e-12, "{mean} {slope}");
+        assert!(c.sigma > 0.0 && level > 0.0, "{c:?}");
+        assert!(viscous_from_nonlinear(&fig5_model(), &speeds).is_none());
     }
 
     /// The plateaus with `nonlinear_viscous` at n = 0.5, named as a pair:

@@ -204,7 +204,7 @@ impl<'a> Search<'a> {
             .par_iter()
             .map(|&effect| fit_candidate(p, &self.model, &self.r, effect).map(|m| (effect, m)))
             .collect();
-        nonlinear_from_viscous(p, &self.model, &mut fits);
+        seed_nested_pair(p, &self.model, &mut fits);
         for (effect, fitted) in fits.into_iter().flatten() {
             if !admissible(p, &fitted, effect) {
                 continue;
