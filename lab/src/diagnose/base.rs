@@ -127,7 +127,7 @@ pub fn base_weights(p: &mut Prepared, progress: &mut dyn FnMut(&str)) -> Model {
 /// 320 development records of 2800000– and 2900000–: named exactly +1 and
 /// 0 against this rule, one more name on an effect-free record with the
 /// first; not taken (lab/README, Known gaps).
-fn speeds_above_rest(p: &Prepared) -> Vec<f64> {
+pub(super) fn speeds_above_rest(p: &Prepared) -> Vec<f64> {
     p.valid()
         .map(|i| p.v[i].abs())
         .filter(|s| *s > p.v_rest)

@@ -412,12 +412,7 @@ fn seed_nested_pair(p: &Prepared, base: &Model, fits: &mut Vec<Option<(Effect, M
         &to_nonlinear,
         true,
     );
-    let speeds: Vec<f64> = p
-        .valid()
-        .map(|i| p.v[i].abs())
-        .filter(|s| *s > p.v_rest)
-        .collect();
-    let to_viscous = |m: &Model| viscous_from_nonlinear(m, &speeds);
+    let to_viscous = |m: &Model| viscous_from_nonlinear(m, &speeds_above_rest(p));
     cross_seed(
         p,
         base,
