@@ -169,41 +169,21 @@ pub(super) fn restart_dip(p: &Prepared, m: Model, show: &mut dyn FnMut(&str)) ->
     }
 }
 
-/// `m` with its Stribeck dip seeded again, `Fs = 1.4·Fc`: δ = 2 with `V`
-/// at 1 and 3 times the 20 % speed quantile (the base grid's middle), and
-/// δ = 1 with `V` at the [`HIGH_SEED_QUANTILES`] of the speeds (version
-/// 10.2).
-///
-/// The low seeds alone miss a dip whose `V` lies among the record's
-/// faster speeds, which is where it lies on servo records that spend most
-/// of their samples creeping and holding: on the suite-like development
-/// record 8000079 (`drift` hidden, β·T = 0.20) the base fit lost both the
-/// dip and the presliding distance to the drift, the 20 % quantile was
-/// 5.4e-5 m/s and the median 4.9e-4 m/s against the true V = 2.7e-3 m/s,
-/// and `drift` from the low seeds stopped at a model error of 0.74 N of
-/// the base's 0.87 N (not named); from the 80 % and 95 % quantiles it
-/// reaches the truth (Fc 15.10 N, Fs 18.49 N, V 2.6e-3 m/s, β within
-/// 0.1 %, the gap to the floor).
+/// `m` with its Stribeck dip seeded again: `Fs = 1.4·Fc`, δ = 2, `V` at
+/// 1 and 3 times the 20 % speed quantile (the base grid's middle).
 pub(super) fn dip_seeds(p: &Prepared, m: &Model) -> Vec<Model> {
-    let seed = |v_stribeck: f64, delta: f64| {
-        let mut c = m.clone();
-        c.fs = 1.4 * c.fc;
-        c.v_stribeck = v_stribeck;
-        c.delta = delta;
-        c
-    };
     let v_lo = low_speed(p).unwrap_or(1e-3);
-    let low = [1.0, 3.0].into_iter().map(|vf| seed(vf * v_lo, 2.0));
-    let high = HIGH_SEED_QUANTILES
+    [1.0, 3.0]
         .into_iter()
-        .filter_map(|q| speed_quantile(p, q))
-        .map(|v| seed(v, 1.0));
-    low.chain(high).collect()
+        .map(|vf| {
+            let mut c = m.clone();
+            c.fs = 1.4 * c.fc;
+            c.v_stribeck = vf * v_lo;
+            c.delta = 2.0;
+            c
+        })
+        .collect()
 }
-
-/// Quantiles of [`speeds_above_rest`] at which [`dip_seeds`] also seeds
-/// `V` (with δ = 1).
-pub(super) const HIGH_SEED_QUANTILES: [f64; 2] = [0.8, 0.95];
 
 /// Restarts of the base shape: `V` at 0.3, 1 and 3 times the 20 % speed
 /// quantile, δ = 1 and 2, `Fs = 1.4·Fc`, the rest of `m` kept.
