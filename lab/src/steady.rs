@@ -37,7 +37,8 @@ use crate::Error;
 use std::path::Path;
 
 /// A steady-state curve whose cross-validated RMS
-/// ([`SteadyRecord::cv_rms`]) is below this many times the readings' noise ([`SteadyRecord::noise`]) lacks nothing.
+/// ([`SteadyRecord::cv_rms`]) is below this many times the readings' noise
+/// ([`SteadyRecord::noise`]) lacks nothing.
 pub const NOISE_FACTOR: f64 = 1.5;
 
 /// The largest `Fs/Fc` of a Stribeck dip that comes back with an effect on
@@ -1046,8 +1047,8 @@ mod tests {
 
     /// Without a Stribeck dip `asymmetry` and `offset` are one curve
     /// (in-model readings, Fs = Fc, a = 0.05): whichever is named, the
-    /// report says the record cannot tell it from the other; with the dip
-    /// of the test above it does not.
+    /// report says the record cannot tell it from the other; with a dip
+    /// (Fs = 1.5·Fc) it does not.
     #[test]
     fn without_a_dip_the_look_alikes_are_reported_as_one_curve() {
         let mut truth = diagnose::fig5_model();
