@@ -308,6 +308,14 @@ impl Scales {
 }
 
 /// The parameter vector of `m` for `params`.
+/// `BIC = n·ln(rms²) + k·ln(n)` of a fit with `k` parameters whose RMS
+/// [N] over `n` points is `rms` (the one criterion every selection of the
+/// lab scores with).
+pub fn bic(n: usize, rms: f64, k: usize) -> f64 {
+    let n = n.max(1) as f64;
+    n * (rms * rms).max(1e-300).ln() + k as f64 * n.ln()
+}
+
 pub fn encode(m: &Model, params: &[Param], sc: Scales) -> Vec<f64> {
     params.iter().map(|&p| get(m, p, sc)).collect()
 }

@@ -98,6 +98,27 @@ const MIN_MIRRORED_PAIRS: usize = 3;
 /// ([`SteadyRecord::cv_rms`]).
 pub const CV_FOLDS: usize = 3;
 
+/// The fold of each point for [`SteadyRecord::cv_rms`]: the points ranked
+/// by speed (the negative direction first at equal speeds), rank `k` in
+/// fold `k mod CV_FOLDS`, so that neighbouring speeds and the two
+/// directions of one speed fall in different folds. In file order, a
+/// record of 15 speeds a direction put both directions of each speed in one
+/// fold, and a dip on three speeds lost its middle one.
+fn folds(points: &[Point]) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..points.len()).collect();
+    order.sort_by(|&a, &b| {
+        let (pa, pb) = (&points[a], &points[b]);
+        pa.v.abs()
+            .total_cmp(&pb.v.abs())
+            .then(pa.v.total_cmp(&pb.v))
+    });
+    let mut fold = vec![0; points.len()];
+    for (k, &i) in order.iter().enumerate() {
+        fold[i] = k % CV_FOLDS;
+    }
+    fold
+}
+
 /// A steady-state record prepared for fitting.
 #[derive(Clone, Debug)]
 pub struct SteadyRecord {
@@ -105,6 +126,8 @@ pub struct SteadyRecord {
     pub points: Vec<Point>,
     /// Held-out flag per point.
     pub held_out: Vec<bool>,
+    /// Fold of each point for [`SteadyRecord::cv_rms`] (see `folds`).
+    fold: Vec<usize>,
 }
 
 impl SteadyRecord {
@@ -113,24 +136,32 @@ impl SteadyRecord {
         let held_out = (0..points.len())
             .map(|i| matches!(i % 10, 2 | 5 | 8))
             .collect();
-        SteadyRecord { points, held_out }
+        let fold = folds(&points);
+        SteadyRecord {
+            points,
+            held_out,
+            fold,
+        }
     }
 
     /// RMS of `F_measured − F(v)` over the held-out (`true`) or training
     /// points.
     pub fn rms(&self, m: &Model, held_out: bool) -> f64 {
-        let (mut s, mut n) = (0.0, 0usize);
-        for (pt, _) in self
-            .points
-            .iter()
-            .zip(&self.held_out)
-            .filter(|(_, h)| **h == held_out)
-        {
-            let r = pt.tau - steady_force(m, pt.v);
-            s += r * r;
-            n += 1;
-        }
+        let (s, n) = self.squares(m, &self.held_out, held_out);
         (s / n.max(1) as f64).sqrt()
+    }
+
+    /// Sum of the squared residuals of `m` over the points whose `mask`
+    /// flag is `on`, and their number.
+    fn squares(&self, m: &Model, mask: &[bool], on: bool) -> (f64, usize) {
+        self.points
+            .iter()
+            .zip(mask)
+            .filter(|(_, h)| **h == on)
+            .fold((0.0, 0), |(s, n), (pt, _)| {
+                let r = pt.tau - steady_force(m, pt.v);
+                (s + r * r, n + 1)
+            })
     }
 
     /// Noise of one reading [N] (N·m): the smallest of three spreads —
@@ -235,42 +266,14 @@ impl SteadyRecord {
     /// report's held-out points, and a Stribeck dip that lives on two or
     /// three of them is then judged on one or none.
     pub fn cv_rms(&self, m: &Model) -> f64 {
-        let folds = self.folds();
         let (mut s, mut n) = (0.0, 0usize);
         for f in 0..CV_FOLDS {
-            let fold = SteadyRecord {
-                points: self.points.clone(),
-                held_out: folds.iter().map(|k| *k == f).collect(),
-            };
-            let fitted = fit_steady(&fold, m);
-            for (pt, _) in self.points.iter().zip(&fold.held_out).filter(|(_, h)| **h) {
-                let r = pt.tau - steady_force(&fitted, pt.v);
-                s += r * r;
-                n += 1;
-            }
+            let out: Vec<bool> = self.fold.iter().map(|k| *k == f).collect();
+            let (sf, nf) = self.squares(&fit_without(self, m, &out), &out, true);
+            s += sf;
+            n += nf;
         }
         (s / n.max(1) as f64).sqrt()
-    }
-
-    /// The fold of each point for [`SteadyRecord::cv_rms`]: the points
-    /// ranked by speed (the negative direction first at equal speeds),
-    /// rank `k` in fold `k mod CV_FOLDS`, so that neighbouring speeds and
-    /// the two directions of one speed fall in different folds. In file
-    /// order, a record of 15 speeds a direction put both directions of each
-    /// speed in one fold, and a dip on three speeds lost its middle one.
-    fn folds(&self) -> Vec<usize> {
-        let mut order: Vec<usize> = (0..self.points.len()).collect();
-        order.sort_by(|&a, &b| {
-            let (pa, pb) = (&self.points[a], &self.points[b]);
-            pa.v.abs()
-                .total_cmp(&pb.v.abs())
-                .then(pa.v.total_cmp(&pb.v))
-        });
-        let mut folds = vec![0; self.points.len()];
-        for (k, &i) in order.iter().enumerate() {
-            folds[i] = k % CV_FOLDS;
-        }
-        folds
     }
 
     fn count(&self, held_out: bool) -> usize {
@@ -280,6 +283,8 @@ impl SteadyRecord {
 
 struct SteadyProblem<'a> {
     rec: &'a SteadyRecord,
+    /// The points left out of the fit.
+    out: &'a [bool],
     m0: &'a Model,
     params: &'a [Param],
 }
@@ -290,7 +295,7 @@ impl Residuals for SteadyProblem<'_> {
         self.rec
             .points
             .iter()
-            .zip(&self.rec.held_out)
+            .zip(self.out)
             .filter(|(_, h)| !**h)
             .map(|(pt, _)| pt.tau - steady_force(&m, pt.v))
             .collect()
@@ -299,9 +304,16 @@ impl Residuals for SteadyProblem<'_> {
 
 /// Least-squares fit of the structure of `m0` on the training points.
 pub fn fit_steady(rec: &SteadyRecord, m0: &Model) -> Model {
+    fit_without(rec, m0, &rec.held_out)
+}
+
+/// Least-squares fit of the structure of `m0` on the points whose `out`
+/// flag is false.
+fn fit_without(rec: &SteadyRecord, m0: &Model, out: &[bool]) -> Model {
     let params = params_of(m0);
     let problem = SteadyProblem {
         rec,
+        out,
         m0,
         params: &params,
     };
@@ -675,8 +687,7 @@ fn select(rec: &SteadyRecord, mut model: Model, allowed: &[Effect], noise: f64) 
 /// `BIC = n·ln(rms²) + k·ln(n)` over all `n` points of `rec`, for a
 /// cross-validated rms [N] ([`SteadyRecord::cv_rms`]) and `k` parameters.
 fn cv_bic(rec: &SteadyRecord, rms: f64, k: usize) -> f64 {
-    let n = rec.points.len().max(1) as f64;
-    n * (rms * rms).max(1e-300).ln() + k as f64 * n.ln()
+    fit::bic(rec.points.len(), rms, k)
 }
 
 /// `BIC = n·ln(rms²) + k·ln(n)` of `m` over the training points of `rec`:
@@ -685,9 +696,7 @@ fn cv_bic(rec: &SteadyRecord, rms: f64, k: usize) -> f64 {
 /// without a dip (`nonlinear_viscous`, n = 1.42), `viscous` with a
 /// restored "dip" at V = 0.27 m/s, the fastest speeds, was named.
 fn train_bic(rec: &SteadyRecord, m: &Model) -> f64 {
-    let n = rec.count(false).max(1) as f64;
-    let rms = rec.rms(m, false);
-    n * (rms * rms).max(1e-300).ln() + params_of(m).len() as f64 * n.ln()
+    fit::bic(rec.count(false), rec.rms(m, false), params_of(m).len())
 }
 
 /// What one order of [`select`] ends with.
@@ -997,7 +1006,7 @@ mod tests {
                 })
             })
             .collect();
-        let folds = SteadyRecord::new(points).folds();
+        let folds = SteadyRecord::new(points).fold;
         for k in 0..13 {
             assert_ne!(folds[k], folds[13 + k], "speed {k}");
         }

@@ -308,8 +308,7 @@ fn held_rms(p: &Prepared, m: &Model) -> (f64, Vec<f64>) {
 }
 
 fn bic(p: &Prepared, rms: f64, n_params: usize) -> f64 {
-    let n = p.count(true).max(1) as f64;
-    n * (rms * rms).max(1e-300).ln() + n_params as f64 * n.ln()
+    fit::bic(p.count(true), rms, n_params)
 }
 
 /// Whether `m`, fitted with `effect` on top of `base`, ended inside its
