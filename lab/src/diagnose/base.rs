@@ -202,6 +202,57 @@ pub(super) fn restarts(p: &Prepared, m: &Model) -> Vec<Model> {
     out
 }
 
+/// Stribeck speeds of [`reshape_starts`], in the record's 20 % speed
+/// quantile ([`low_speed`]).
+pub(super) const RESHAPE_SPEEDS: [f64; 4] = [0.3, 1.0, 3.0, 10.0];
+
+/// Presliding distances of [`reshape_starts`] [encoder counts].
+pub(super) const RESHAPE_COUNTS: [f64; 2] = [10.0, 40.0];
+
+/// Starts for the base shape identified again with the named effects in
+/// place ([`super::search::Search::reshape_base`]): every parameter of
+/// `m` kept but the base's — `V` at [`RESHAPE_SPEEDS`] times the 20 %
+/// speed quantile, δ = 1 and 2, `z_max` at [`RESHAPE_COUNTS`] counts,
+/// `Fs = 1.4·Fc` — and, where `m` holds viscous friction, σ as fitted and
+/// at a hundredth of it (a degenerate dip, `V` far above the record's
+/// speeds, can lean on a viscous slope that the sound shape does not need;
+/// σ stays above 0 so that the `viscous` step keeps its parameter). `Fc`
+/// starts at `m`'s steady-state friction at the record's typical speed
+/// less the start's viscous part: the level the record slides at, where
+/// the degenerate fit's own `Fc` can be a fraction of it (on the
+/// suite-like 8400072, `Fc` = 0.42 N with `V` = 1.06 m/s and δ at its
+/// bound, where the axis slides at 1.1 N).
+pub(super) fn reshape_starts(p: &Prepared, m: &Model) -> Vec<Model> {
+    let v_lo = low_speed(p).unwrap_or(1e-3);
+    let v_t = typical_speed(p);
+    let level = crate::steady::steady_force(m, v_t).abs();
+    let sigmas = if m.sigma > 0.0 {
+        vec![m.sigma, 0.01 * m.sigma]
+    } else {
+        vec![0.0]
+    };
+    let mut starts = Vec::new();
+    for vf in RESHAPE_SPEEDS {
+        for delta in [1.0, 2.0] {
+            for counts in RESHAPE_COUNTS {
+                for &sigma in &sigmas {
+                    let fc = (level - sigma * v_t).max(0.1 * level);
+                    starts.push(Model {
+                        fc,
+                        fs: 1.4 * fc,
+                        v_stribeck: vf * v_lo,
+                        delta,
+                        sigma,
+                        z_max: counts * p.resolution,
+                        ..m.clone()
+                    });
+                }
+            }
+        }
+    }
+    starts
+}
+
 /// Drops the parts of the base structure that the record does not
 /// support: `stribeck` or `presliding` when a parameter of theirs is
 /// degenerate ([`degenerate`]), or (with `by_rms`, once the missing

@@ -144,6 +144,7 @@ pub fn report_json(rep: &Report) -> String {
         "static_level": rep.static_level.map(|l| json!({"held": l.held, "fs_fitted": l.fitted, "fs_written": l.written, "raised": l.raised()})),
         "lost_motion": lost_motion(&rep.model).map(|z| json!({"z_max": z, "counts": z / rep.resolution})),
         "base_refit": rep.base_refit,
+        "base_reshaped": rep.base_reshaped,
         "dropped": rep.dropped.iter().map(|(n, why)| json!({"part": n.name(), "reason": why})).collect::<Vec<_>>(),
         "regions": rep.regions.iter().map(|r| json!({"regime": r.regime, "t_start": r.t_start, "t_end": r.t_end, "rms": r.rms})).collect::<Vec<_>>(),
         "regimes": rep.regimes.iter().map(|r| json!({"regime": r.regime, "n": r.n, "rms": r.rms})).collect::<Vec<_>>(),
@@ -269,6 +270,12 @@ fn write_measurement(rep: &Report, source: &str, s: &mut String) {
     }
     if let Some(why) = &rep.base_refit {
         let _ = writeln!(s, "presliding first fitted into a local minimum, fitted again before the candidates: {why}");
+    }
+    if let Some(why) = &rep.base_reshaped {
+        let _ = writeln!(
+            s,
+            "base shape identified again with the named effects in place: {why}"
+        );
     }
     if fit::mass_at_bound(&rep.model) {
         let _ = writeln!(
