@@ -487,7 +487,7 @@ impl<'a> Search<'a> {
     /// The base is identified before any effect is in the model, and a
     /// missing effect can push it into a local minimum it keeps after the
     /// effect joined: on the suite-like 8400072 (`offset` + `drift` hidden)
-    /// the start had δ at its lower bound, `V` = 1.06 m/s (the record
+    /// the model had δ at its lower bound, `V` = 1.06 m/s (the record
     /// slides at up to 17 mm/s) and no presliding, and `viscous` was
     /// named beside the two to bend that shape; identified again, the
     /// base lands at the generator's (`Fc` 1.141 N against 1.141, `V`
@@ -495,7 +495,7 @@ impl<'a> Search<'a> {
     /// RMS falls from 1.37 to 0.61 mN and `viscous` goes. On 17 of the 72
     /// time records of the draws 8400000– and 8500000– whose model had
     /// lost presliding or its dip, the part came back this way, `z_max`
-    /// within 10 % of the generator's on 12 of them (lab/HISTORY.md,
+    /// within 20 % of the generator's on 12 of them (lab/HISTORY.md,
     /// *Version 10.4*).
     pub fn reshape_base(&mut self, show: &mut dyn FnMut(&str)) -> bool {
         let p = self.p;
