@@ -307,7 +307,6 @@ impl Scales {
     }
 }
 
-/// The parameter vector of `m` for `params`.
 /// `BIC = n·ln(rms²) + k·ln(n)` of a fit with `k` parameters whose RMS
 /// [N] over `n` points is `rms` (the one criterion every selection of the
 /// lab scores with).
@@ -316,6 +315,7 @@ pub fn bic(n: usize, rms: f64, k: usize) -> f64 {
     n * (rms * rms).max(1e-300).ln() + k as f64 * n.ln()
 }
 
+/// The parameter vector of `m` for `params`.
 pub fn encode(m: &Model, params: &[Param], sc: Scales) -> Vec<f64> {
     params.iter().map(|&p| get(m, p, sc)).collect()
 }

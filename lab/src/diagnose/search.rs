@@ -517,12 +517,12 @@ impl<'a> Search<'a> {
             .par_iter()
             .map(|start| {
                 let params = fit::params_of(start);
-                let m = fit::fit(p, start, &params, &FitOptions::default(), &mut |_| {}).model;
-                (held_rms(p, &m).0, m)
+                fit::fit(p, start, &params, &FitOptions::default(), &mut |_| {}).model
             })
-            .filter(|(_, m)| sound(m))
-            .min_by(|a, b| a.0.total_cmp(&b.0));
-        let Some((rms, model)) = best else {
+            .filter(|m| sound(m))
+            .map(|m| (held_rms(p, &m), m))
+            .min_by(|a, b| a.0 .0.total_cmp(&b.0 .0));
+        let Some(((rms, r), model)) = best else {
             return false;
         };
         let limit = if degenerate_dip {
@@ -546,8 +546,7 @@ impl<'a> Search<'a> {
         self.dropped.retain(|(e, _)| {
             !matches!(e, Effect::Stribeck | Effect::Presliding) || !fit::has_effect(&model, *e)
         });
-        (self.rms, self.r) = held_rms(p, &model);
-        self.model = model;
+        (self.model, self.rms, self.r) = (model, rms, r);
         true
     }
 
