@@ -559,6 +559,10 @@ fn admissible(p: &Prepared, fitted: &Model, effect: Effect) -> bool {
     if effect == Effect::DwellStiction && dwell_spread(p, fitted) < MIN_DWELL_SPREAD {
         return false;
     }
+    // A ripple in position must show alike in both directions of motion.
+    if effect == Effect::PositionRipple && !ripple_coherent(p, fitted) {
+        return false;
+    }
     // A fit that ran to a bound of its parameters has not found the effect
     // (or has found a simpler structure).
     degenerate(p, fitted, effect).is_none()
@@ -995,6 +999,51 @@ mod tests {
         assert!((found / lam - 1.0).abs() < 0.01, "{found} for {lam}");
         assert!((c1.hypot(c2) / 0.5 - 1.0).abs() < 0.05, "{c1} {c2}");
         assert!(explained > 0.95, "{explained}");
+    }
+
+    /// A ripple in position reads alike in both directions of motion
+    /// ([`ripple_coherent`]); a force that follows `sin(2πx/λ)` with the
+    /// sign of the direction of motion, which a ripple fitted over both
+    /// directions partly follows, does not.
+    #[test]
+    fn a_ripple_must_show_alike_in_both_directions() {
+        let (lam, amplitude) = (0.5e-3, 0.1);
+        let mut truth = fig5_model();
+        truth.effects.position_ripple = Some(PositionRipple {
+            amplitude,
+            wavelength: lam,
+            phase: 0.0,
+        });
+        let p = reversing_record(&truth);
+        let (cos, ratio) = ripple_coherence(&p, &truth).expect("both directions move");
+        assert!(cos > 0.9 && ratio > 0.9, "{cos} {ratio}");
+        assert!(ripple_coherent(&p, &truth));
+        // The same record with the ripple's sign following the direction.
+        let base = fig5_model();
+        let f = p.friction(&base);
+        let u: Vec<f64> = (0..p.len())
+            .map(|i| {
+                let flip = amplitude * p.v[i].signum() * (2.0 * PI * p.x[i] / lam).sin();
+                base.mass * p.a[i] + f[i] + flip
+            })
+            .collect();
+        let rec = Record {
+            u,
+            t: p.t.clone(),
+            x: p.x.clone(),
+            v: None,
+            source: "test".into(),
+        };
+        let q = Prepared::with_window(
+            &rec,
+            Window {
+                velocity: 4,
+                force: 32,
+            },
+        );
+        let (cos, _) = ripple_coherence(&q, &truth).expect("both directions move");
+        assert!(cos < -0.9, "{cos}");
+        assert!(!ripple_coherent(&q, &truth));
     }
 
     /// A ripple longer than the travel is degenerate (a trend in position),
