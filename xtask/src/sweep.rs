@@ -1190,6 +1190,12 @@ pub const SMOKE_CASES: &[(u64, &str, Guard, &str)] = &[
         Guard::Success,
         "`viscous` beside `nonlinear_viscous` in a local minimum of n: the general form refitted alone from its reseed exponents in the backward check, version 9.7",
     ),
+    (
+        8_500_132,
+        "mixed",
+        Guard::Success,
+        "a short ripple that follows the direction of motion beside `drift` and `nonlinear_viscous`: a ripple counts only alike in both directions, version 10.5",
+    ),
 ];
 
 #[cfg(test)]

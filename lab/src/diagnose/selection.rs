@@ -451,14 +451,13 @@ pub const RIPPLE_MIN_AMPLITUDE_RATIO: f64 = 0.5;
 /// (version 10.5); `true` where a direction has too few moving samples to
 /// tell.
 ///
-/// On the development records (the eight draws 7500000–, 7700000–,
-/// 8100000–, 8300000–, 8400000–, 8500000–, 8800000–, 8900000–, 1168
-/// records; version 10.4): the 82 ripples named where the generator
-/// hid one read a cosine of 0.946–1.000 and a ratio of 0.78–1.00; of the
-/// 16 records where a ripple was named that the generator had not hidden
-/// (wavelengths 23–592 µm), 6 lose it, 5 of them then named exactly
-/// (8300061 read a ratio of 0.04, 8400079 0.14, 8500132 a cosine of
-/// −0.25, 7700110 −0.54).
+/// On the development records (version 10.4): the 82 ripples named
+/// where the generator hid one on the draws 8100000– to 8800000– read a
+/// cosine of 0.946–1.000 and a ratio of 0.78–1.00; of the 16 records of
+/// the eight draws 7500000– to 8900000– where a ripple was named that the
+/// generator had not hidden (wavelengths 23–592 µm), 6 lose it, 5 of them
+/// then named exactly (8300061 read a ratio of 0.04, 8400079 0.14,
+/// 8500132 a cosine of −0.25, 7700110 −0.54).
 pub fn ripple_coherent(p: &Prepared, m: &Model) -> bool {
     ripple_coherence(p, m).is_none_or(|(cos, ratio)| {
         cos >= RIPPLE_MIN_PHASE_COS && ratio >= RIPPLE_MIN_AMPLITUDE_RATIO
