@@ -1,7 +1,8 @@
 //! Selection: the rules that decide whether a fitted candidate is a finding
 //! (held-out gain, share of the gap, visibility above the noise), which
 //! fits are degenerate (a parameter at a bound or at a non-physical value),
-//! and which effects look alike.
+//! whether a ripple shows alike in both directions of motion, and which
+//! effects look alike.
 
 use super::*;
 
