@@ -448,9 +448,9 @@ pub const RIPPLE_MIN_AMPLITUDE_RATIO: f64 = 0.5;
 /// sinusoid in `x` happens to follow near the turning points (a few
 /// presliding distances long, its sign set by the direction) is not.
 /// Both bounds ([`RIPPLE_MIN_PHASE_COS`], [`RIPPLE_MIN_AMPLITUDE_RATIO`])
-/// were set from that reading before any record was scored against them
-/// (version 10.5); `true` where a direction has too few moving samples to
-/// tell.
+/// are round values with room on both sides of what the development
+/// records below read, chosen before the rule was built (version 10.5);
+/// `true` where a direction has too few moving samples to tell.
 ///
 /// On the development records (version 10.4): the 82 ripples named
 /// where the generator hid one on the draws 8100000– to 8800000– read a
