@@ -163,34 +163,26 @@ pub fn ripple_scan(p: &Prepared, r: &[f64], filtered: bool) -> (f64, f64, f64, f
     // Least-squares fit of `c1·sin(kx) + c2·cos(kx)` at one wavelength.
     let at = |lam: f64| {
         let k = 2.0 * PI / lam;
-        let (mut ss, mut sc, mut cc, mut rs, mut rc) = (0.0, 0.0, 0.0, 0.0, 0.0);
         let (sin, cos) = if filtered {
-            let raw_sin: Vec<f64> = p.x.iter().map(|x| (k * x).sin()).collect();
-            let raw_cos: Vec<f64> = p.x.iter().map(|x| (k * x).cos()).collect();
-            (p.filter_all(&raw_sin), p.filter_all(&raw_cos))
+            sin_cos_filtered(p, k)
         } else {
             (Vec::new(), Vec::new())
         };
-        for &i in &idx {
-            let (a, b) = if filtered {
+        let basis = |i: usize| {
+            if filtered {
                 (sin[i], cos[i])
             } else {
                 ((k * p.x[i]).sin(), (k * p.x[i]).cos())
-            };
-            let w = p.weight[i];
-            ss += w * a * a;
-            sc += w * a * b;
-            cc += w * b * b;
-            rs += w * r[i] * a;
-            rc += w * r[i] * b;
+            }
+        };
+        match sin_cos_regression(p, r, idx.iter().copied(), basis) {
+            Some(SinCosFit {
+                coef: (c1, c2),
+                proj: (rs, rc),
+                ..
+            }) => (lam, c1, c2, (c1 * rs + c2 * rc) / total),
+            None => none,
         }
-        let det = ss * cc - sc * sc;
-        if det <= 0.0 {
-            return none;
-        }
-        let c1 = (rs * cc - rc * sc) / det;
-        let c2 = (rc * ss - rs * sc) / det;
-        (lam, c1, c2, (c1 * rs + c2 * rc) / total)
     };
     let grid = |s: f64| lam_min * (lam_top / lam_min).powf(s / RIPPLE_SCAN_STEPS as f64);
     let coarse: Vec<(f64, f64, f64, f64)> = (0..=steps).map(|s| at(grid(s as f64))).collect();
@@ -215,6 +207,58 @@ pub fn ripple_scan(p: &Prepared, r: &[f64], filtered: bool) -> (f64, f64, f64, f
         }
     }
     best
+}
+
+/// `sin(k·x)` and `cos(k·x)` along the record through the force kernel,
+/// as a ripple of wavenumber `k` [rad/m] enters the residual.
+pub(super) fn sin_cos_filtered(p: &Prepared, k: f64) -> (Vec<f64>, Vec<f64>) {
+    let raw_sin: Vec<f64> = p.x.iter().map(|x| (k * x).sin()).collect();
+    let raw_cos: Vec<f64> = p.x.iter().map(|x| (k * x).cos()).collect();
+    (p.filter_all(&raw_sin), p.filter_all(&raw_cos))
+}
+
+/// A sine and cosine regressed on a residual ([`sin_cos_regression`]).
+pub(super) struct SinCosFit {
+    /// The coefficients `(c1, c2)` of `c1·a + c2·b` [N].
+    pub coef: (f64, f64),
+    /// The weighted projections `(Σw·r·a, Σw·r·b)` [N].
+    pub proj: (f64, f64),
+    /// Samples fitted.
+    pub samples: usize,
+}
+
+/// Weighted least squares of `r` on the two columns `basis(i)` (a sine
+/// and a cosine) over the samples `idx`; `None` where the two columns are
+/// singular. The fit behind [`ripple_scan`] and
+/// [`super::ripple_coherence`].
+pub(super) fn sin_cos_regression(
+    p: &Prepared,
+    r: &[f64],
+    idx: impl IntoIterator<Item = usize>,
+    basis: impl Fn(usize) -> (f64, f64),
+) -> Option<SinCosFit> {
+    let (mut ss, mut sc, mut cc, mut rs, mut rc, mut n) = (0.0, 0.0, 0.0, 0.0, 0.0, 0);
+    for i in idx {
+        let (a, b) = basis(i);
+        let w = p.weight[i];
+        ss += w * a * a;
+        sc += w * a * b;
+        cc += w * b * b;
+        rs += w * r[i] * a;
+        rc += w * r[i] * b;
+        n += 1;
+    }
+    let det = ss * cc - sc * sc;
+    if det <= 0.0 {
+        return None;
+    }
+    let c1 = (rs * cc - rc * sc) / det;
+    let c2 = (rc * ss - rs * sc) / det;
+    Some(SinCosFit {
+        coef: (c1, c2),
+        proj: (rs, rc),
+        samples: n,
+    })
 }
 
 /// Fewest periods over the whole travel ([`Prepared::travel`]) of a ripple

@@ -1018,29 +1018,10 @@ mod tests {
         let (cos, ratio) = ripple_coherence(&p, &truth).expect("both directions move");
         assert!(cos > 0.9 && ratio > 0.9, "{cos} {ratio}");
         assert!(ripple_coherent(&p, &truth));
-        // The same record with the ripple's sign following the direction.
-        let base = fig5_model();
-        let f = p.friction(&base);
-        let u: Vec<f64> = (0..p.len())
-            .map(|i| {
-                let flip = amplitude * p.v[i].signum() * (2.0 * PI * p.x[i] / lam).sin();
-                base.mass * p.a[i] + f[i] + flip
-            })
-            .collect();
-        let rec = Record {
-            u,
-            t: p.t.clone(),
-            x: p.x.clone(),
-            v: None,
-            source: "test".into(),
-        };
-        let q = Prepared::with_window(
-            &rec,
-            Window {
-                velocity: 4,
-                force: 32,
-            },
-        );
+        // The same motion with the ripple's sign following the direction.
+        let flip =
+            |m: &Prepared, i: usize| amplitude * m.v[i].signum() * (2.0 * PI * m.x[i] / lam).sin();
+        let q = reversing_record_plus(&fig5_model(), &flip);
         let (cos, _) = ripple_coherence(&q, &truth).expect("both directions move");
         assert!(cos < -0.9, "{cos}");
         assert!(!ripple_coherent(&q, &truth));
@@ -1426,6 +1407,12 @@ mod tests {
     /// A reversing sinusoid (2 mm at 3 rad/s, up to 6 V) with the force of
     /// `truth` along the measured motion, as [`plateau_record`] builds it.
     fn reversing_record(truth: &Model) -> Prepared {
+        reversing_record_plus(truth, &|_, _| 0.0)
+    }
+
+    /// [`reversing_record`] with `extra(p, i)` [N] added to the force of
+    /// sample `i` (`p` the record's motion).
+    fn reversing_record_plus(truth: &Model, extra: &dyn Fn(&Prepared, usize) -> f64) -> Prepared {
         let p0 = sinusoid(4000, 2e-3, 3.0);
         let rec = |u: Vec<f64>| Record {
             u,
@@ -1439,7 +1426,9 @@ mod tests {
             force: 32,
         };
         let f = p0.friction(truth);
-        let u = (0..p0.len()).map(|i| truth.mass * p0.a[i] + f[i]).collect();
+        let u = (0..p0.len())
+            .map(|i| truth.mass * p0.a[i] + f[i] + extra(&p0, i))
+            .collect();
         Prepared::with_window(&rec(u), window)
     }
 

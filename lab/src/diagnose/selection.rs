@@ -582,26 +582,15 @@ pub fn ripple_coherence(p: &Prepared, m: &Model) -> Option<(f64, f64)> {
     let mut without = m.clone();
     without.effects.position_ripple = None;
     let r = p.residual(&without);
-    let k = 2.0 * PI / rip.wavelength;
-    let sin = p.filter_all(&p.x.iter().map(|x| (k * x).sin()).collect::<Vec<_>>());
-    let cos = p.filter_all(&p.x.iter().map(|x| (k * x).cos()).collect::<Vec<_>>());
+    let (sin, cos) = candidates::sin_cos_filtered(p, 2.0 * PI / rip.wavelength);
     let side = |positive: bool| {
-        let (mut ss, mut sc, mut cc, mut rs, mut rc, mut n) = (0.0, 0.0, 0.0, 0.0, 0.0, 0);
-        for i in p.valid() {
+        let idx = p.valid().filter(|&i| {
             let v = p.v[i];
-            if v.abs() <= p.v_rest || (v > 0.0) != positive {
-                continue;
-            }
-            let (a, b, w) = (sin[i], cos[i], p.weight[i]);
-            ss += w * a * a;
-            sc += w * a * b;
-            cc += w * b * b;
-            rs += w * r[i] * a;
-            rc += w * r[i] * b;
-            n += 1;
-        }
-        let det = ss * cc - sc * sc;
-        (n >= 20 && det > 0.0).then(|| ((rs * cc - rc * sc) / det, (rc * ss - rs * sc) / det))
+            v.abs() > p.v_rest && (v > 0.0) == positive
+        });
+        candidates::sin_cos_regression(p, &r, idx, |i| (sin[i], cos[i]))
+            .filter(|f| f.samples >= 20)
+            .map(|f| f.coef)
     };
     let (a, b) = (side(true)?, side(false)?);
     let (la, lb) = (a.0.hypot(a.1), b.0.hypot(b.1));
