@@ -1196,6 +1196,12 @@ pub const SMOKE_CASES: &[(u64, &str, Guard, &str)] = &[
         Guard::Success,
         "a short ripple that follows the direction of motion beside `drift` and `nonlinear_viscous`: a ripple counts only alike in both directions, version 10.5",
     ),
+    (
+        8_500_084,
+        "mixed",
+        Guard::Success,
+        "a dwell rise that does not saturate within the record's data-side rests (γ fitted at 76 s): the relative spread of the dwell factor, version 10.6",
+    ),
 ];
 
 #[cfg(test)]

@@ -270,6 +270,10 @@ pub struct Report {
     /// whether `Fs` was raised to it ([`held::pin`]); `None` with a given
     /// start model or where no effect was judged.
     pub static_level: Option<StaticLevel>,
+    /// With `dwell_stiction` in the final model, the rests its clock
+    /// counts ([`selection::dwell_rests`]): (shortest, longest [s], how
+    /// many).
+    pub dwell_rests: Option<(f64, f64, usize)>,
     /// Where the residual concentrates before the first step.
     pub regions: Vec<Region>,
     /// RMS per regime before the first step.
@@ -834,6 +838,7 @@ fn run(
     progress.finish();
     let still = p.valid().filter(|&i| p.still[i]).count();
     Report {
+        dwell_rests: selection::dwell_rests(&p, &model),
         pruned,
         swapped,
         at_breakaways,
@@ -1025,6 +1030,67 @@ mod tests {
         let (cos, _) = ripple_coherence(&q, &truth).expect("both directions move");
         assert!(cos < -0.9, "{cos}");
         assert!(!ripple_coherent(&q, &truth));
+    }
+
+    /// The dwell term counts where the break-away depends on the rest
+    /// length: with γ far below every rest its factor is near 1 after each
+    /// of them (no spread), with γ far above them it grows in proportion to
+    /// the rest (as much spread as the rests have).
+    #[test]
+    fn dwell_counts_where_the_factor_follows_the_rest_length() {
+        // Rests of 0.2, 0.5 and 1.0 s, each followed by a 2 mm move at
+        // 10 mm/s, at 1 kHz, quantised to 1 µm.
+        let mut x = Vec::new();
+        let mut at = 0.0;
+        for (k, rest) in [200, 500, 1000].into_iter().enumerate() {
+            x.extend(std::iter::repeat_n(at, rest));
+            let dir = if k % 2 == 0 { 1.0 } else { -1.0 };
+            for _ in 0..200 {
+                at += dir * 1e-5;
+                x.push((at / 1e-6_f64).round() * 1e-6);
+            }
+        }
+        x.extend(std::iter::repeat_n(at, 200));
+        let t: Vec<f64> = (0..x.len()).map(|i| i as f64 * 1e-3).collect();
+        let rec = Record {
+            u: vec![0.0; t.len()],
+            t,
+            x,
+            v: None,
+            source: "test".into(),
+        };
+        let p = Prepared::with_window(
+            &rec,
+            Window {
+                velocity: 4,
+                force: 32,
+            },
+        );
+        let with_gamma = |gamma: f64| {
+            let mut m = fig5_model();
+            m.effects.dwell_stiction = Some(DwellStiction {
+                delta_fs: 0.5,
+                gamma,
+                v_rest: 1e-4,
+            });
+            m
+        };
+        let (shortest, longest, n) = dwell_rests(&p, &with_gamma(1.0)).expect("rests");
+        assert_eq!(n, 3);
+        assert!(
+            (shortest - 0.2).abs() < 0.01 && (longest - 1.0).abs() < 0.01,
+            "{shortest} {longest}"
+        );
+        // γ = 10 ms: 1 − (0.2/0.21)/(1.0/1.01) = 0.038.
+        let short = dwell_spread(&p, &with_gamma(0.01));
+        assert!(
+            short < MIN_DWELL_SPREAD && (short - 0.038).abs() < 0.01,
+            "{short}"
+        );
+        // γ = 50 s: 1 − (0.2/50.2)/(1.0/51) = 0.797.
+        let long = dwell_spread(&p, &with_gamma(50.0));
+        assert!((long - 0.797).abs() < 0.01, "{long}");
+        assert_eq!(dwell_spread(&p, &fig5_model()), 0.0);
     }
 
     /// A ripple longer than the travel is degenerate (a trend in position),

@@ -142,6 +142,7 @@ pub fn report_json(rep: &Report) -> String {
         "valid_samples": rep.still.1,
         "mass_identified": !fit::mass_at_bound(&rep.model),
         "static_level": rep.static_level.map(|l| json!({"held": l.held, "fs_fitted": l.fitted, "fs_written": l.written, "raised": l.raised()})),
+        "dwell_rests": dwell_rests_json(rep),
         "lost_motion": lost_motion(&rep.model).map(|z| json!({"z_max": z, "counts": z / rep.resolution})),
         "base_refit": rep.base_refit,
         "base_reshaped": rep.base_reshaped,
@@ -201,6 +202,48 @@ fn write_static_level(rep: &Report, s: &mut String) {
     };
 }
 
+/// The rests behind a named `dwell_stiction` and whether the record shows
+/// its rise saturate (γ within the longest rest) or only its start, where
+/// `ΔFs` and `γ` are resolved mostly as their ratio, the rise rate.
+fn dwell_rests_json(rep: &Report) -> serde_json::Value {
+    match (rep.dwell_rests, rep.model.effects.dwell_stiction) {
+        (Some((shortest, longest, count)), Some(d)) => serde_json::json!({
+            "shortest": shortest,
+            "longest": longest,
+            "count": count,
+            "rise_rate": d.delta_fs / d.gamma,
+            "saturation_seen": d.gamma <= longest,
+        }),
+        _ => serde_json::Value::Null,
+    }
+}
+
+/// The text line of [`dwell_rests_json`].
+fn write_dwell_rests(rep: &Report, s: &mut String) {
+    let (Some((shortest, longest, count)), Some(d)) =
+        (rep.dwell_rests, rep.model.effects.dwell_stiction)
+    else {
+        return;
+    };
+    let _ = write!(
+        s,
+        "dwell: {count} rests of {} s or more end in motion, {} to {} s; γ = {} s",
+        super::selection::MIN_DWELL_REST,
+        short(shortest, 3),
+        short(longest, 3),
+        short(d.gamma, 3)
+    );
+    let _ = if d.gamma <= longest {
+        writeln!(s)
+    } else {
+        writeln!(
+            s,
+            ", longer than every rest: the record shows the rise before it saturates, so ΔFs and γ are resolved mostly as their ratio ΔFs/γ = {} N/s",
+            short(d.delta_fs / d.gamma, 3)
+        )
+    };
+}
+
 pub(super) fn pct(before: f64, after: f64) -> String {
     format!("{:.0} %", 100.0 * (before - after) / before)
 }
@@ -215,6 +258,7 @@ pub fn report_text(rep: &Report, source: &str) -> String {
     }
     write_outcome(rep, &mut s);
     write_static_level(rep, &mut s);
+    write_dwell_rests(rep, &mut s);
     write_model(&rep.model, &mut s);
     s
 }

@@ -215,21 +215,20 @@ pub fn tied_look_alike(step: &Step, floor: f64) -> Option<(Effect, f64, f64)> {
 /// slow reversal through zero lasts up to about 60 ms at high encoder noise.
 pub const MIN_DWELL_REST: f64 = 0.1;
 
-/// Least spread of the dwell factor `t_d/(t_d + γ)` over the rests of a
-/// record (see [`dwell_spread`]) for a `dwell_stiction` candidate to count.
-/// In the test matrix the identified dwell terms spread 0.27–0.36, the
-/// spurious ones (γ of 30–50 ms, fitting "after a rest" against "after a
-/// reversal") 0.05–0.07.
+/// Least relative spread of the dwell factor `t_d/(t_d + γ)` over the
+/// rests of a record (see [`dwell_spread`]) for a `dwell_stiction`
+/// candidate to count. In the test matrix the identified dwell terms
+/// spread 0.27–0.36, the spurious ones (γ of 30–50 ms, fitting "after a
+/// rest" against "after a reversal") 0.05–0.07: with γ far below every
+/// rest the factor is near 1 after each of them.
 pub const MIN_DWELL_SPREAD: f64 = 0.15;
 
-/// Spread (max − min) of `t_d/(t_d + γ)` of `m`'s dwell term over the
-/// rests of at least [`MIN_DWELL_REST`] that end in motion (data-side rest:
-/// [`Prepared::rest_speed`] `≤ v_rest`, as the model's clock counts it); 0
-/// without the effect or with fewer than two such rests.
-pub fn dwell_spread(p: &Prepared, m: &Model) -> f64 {
-    let Some(dw) = m.effects.dwell_stiction else {
-        return 0.0;
-    };
+/// The rests of at least [`MIN_DWELL_REST`] that end in motion, as `m`'s
+/// dwell clock counts them (data-side rest: [`Prepared::rest_speed`]
+/// `≤ v_rest`): `(shortest, longest, how many)` [s], or `None` without
+/// the effect or without such a rest.
+pub fn dwell_rests(p: &Prepared, m: &Model) -> Option<(f64, f64, usize)> {
+    let dw = m.effects.dwell_stiction?;
     let mut start: Option<f64> = Some(p.t[0]);
     let (mut lo, mut hi, mut n) = (f64::INFINITY, f64::NEG_INFINITY, 0);
     for i in 0..p.len() {
@@ -238,15 +237,35 @@ pub fn dwell_spread(p: &Prepared, m: &Model) -> f64 {
         } else if let Some(s) = start.take() {
             let td = p.t[i] - s;
             if td >= MIN_DWELL_REST {
-                let f = td / (td + dw.gamma);
-                lo = lo.min(f);
-                hi = hi.max(f);
+                lo = lo.min(td);
+                hi = hi.max(td);
                 n += 1;
             }
         }
     }
+    (n > 0).then_some((lo, hi, n))
+}
+
+/// Relative spread `1 − f(shortest)/f(longest)` of the dwell factor
+/// `f(t_d) = t_d/(t_d + γ)` of `m`'s dwell term over the rests of
+/// [`dwell_rests`]; 0 without the effect or with fewer than two rests.
+///
+/// Relative, not absolute (version 10.6): where γ is longer than the
+/// record's rests, the factor is small after every rest but grows in
+/// proportion to the rest, and the break-away depends on the rest length
+/// as much as it can. Before, the spread was `f(longest) − f(shortest)`,
+/// the same figure where γ is far below the rests (`f(longest)` near 1),
+/// and 0.03 and 0.12 on the development records 8500084 and 8800078,
+/// where the dwell fit ran γ to 76 s and 26 s (the data-side rests
+/// shorter than the generator's own, γ 0.99 s and 1.15 s) and removed
+/// three quarters of the gap.
+pub fn dwell_spread(p: &Prepared, m: &Model) -> f64 {
+    let (Some(dw), Some((lo, hi, n))) = (m.effects.dwell_stiction, dwell_rests(p, m)) else {
+        return 0.0;
+    };
+    let f = |td: f64| td / (td + dw.gamma);
     if n >= 2 {
-        hi - lo
+        1.0 - f(lo) / f(hi)
     } else {
         0.0
     }
