@@ -219,8 +219,10 @@ pub const MIN_DWELL_REST: f64 = 0.1;
 /// rests of a record (see [`dwell_spread`]) for a `dwell_stiction`
 /// candidate to count. In the test matrix the identified dwell terms
 /// spread 0.27–0.36, the spurious ones (γ of 30–50 ms, fitting "after a
-/// rest" against "after a reversal") 0.05–0.07: with γ far below every
-/// rest the factor is near 1 after each of them.
+/// rest" against "after a reversal") 0.05–0.07, measured as differences
+/// `f(longest) − f(shortest)` (until version 10.6): relative spreads are
+/// at least as large, and about the same where γ is far below every rest
+/// and the factor near 1 after each of them.
 pub const MIN_DWELL_SPREAD: f64 = 0.15;
 
 /// The rests of at least [`MIN_DWELL_REST`] that end in motion, as `m`'s
