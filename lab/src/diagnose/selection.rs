@@ -250,7 +250,8 @@ pub fn dwell_rests(p: &Prepared, m: &Model) -> Option<(f64, f64, usize)> {
 
 /// Relative spread `1 − f(shortest)/f(longest)` of the dwell factor
 /// `f(t_d) = t_d/(t_d + γ)` of `m`'s dwell term over the rests of
-/// [`dwell_rests`]; 0 without the effect or with fewer than two rests.
+/// [`dwell_rests`]; 0 without the effect or with fewer than two rests
+/// (one rest is both the shortest and the longest).
 ///
 /// Relative, not absolute (version 10.6): where γ is longer than the
 /// record's rests, the factor is small after every rest but grows in
@@ -262,15 +263,11 @@ pub fn dwell_rests(p: &Prepared, m: &Model) -> Option<(f64, f64, usize)> {
 /// shorter than the generator's own, γ 0.99 s and 1.15 s) and lowered
 /// the held-out rms by 75 % and 67 %.
 pub fn dwell_spread(p: &Prepared, m: &Model) -> f64 {
-    let (Some(dw), Some((lo, hi, n))) = (m.effects.dwell_stiction, dwell_rests(p, m)) else {
+    let (Some(dw), Some((lo, hi, _))) = (m.effects.dwell_stiction, dwell_rests(p, m)) else {
         return 0.0;
     };
     let f = |td: f64| td / (td + dw.gamma);
-    if n >= 2 {
-        1.0 - f(lo) / f(hi)
-    } else {
-        0.0
-    }
+    1.0 - f(lo) / f(hi)
 }
 
 /// Least model error, in units of the floor, at which a round that named
