@@ -14,11 +14,6 @@ use breakaway::{BreakAwayPredictor, Variant, DEFAULT_BOUNDARY};
 use cortex_m_rt::entry;
 use cortex_m_semihosting::hprintln;
 
-/// The paper's grid: k = 0.01, then 1 … 29 in steps of 2, and 30 N/s.
-const RATES: [f32; 17] = [
-    0.01, 1.0, 3.0, 5.0, 7.0, 9.0, 11.0, 13.0, 15.0, 17.0, 19.0, 21.0, 23.0, 25.0, 27.0, 29.0, 30.0,
-];
-
 #[entry]
 fn main() -> ! {
     let model = common::model::<f32>(common::FIG5);
@@ -26,7 +21,7 @@ fn main() -> ! {
         common::exit_failure("invalid boundary");
     };
     for variant in Variant::ALL {
-        for k in RATES {
+        for k in common::BREAKAWAY_RATES {
             match predictor.predict(&model, variant, k) {
                 Ok(ba) => hprintln!(
                     "ba {} {} {} {} {}",

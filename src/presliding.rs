@@ -660,7 +660,7 @@ mod tests {
     #[test]
     fn straight_path_equals_the_general_one() {
         let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
-        let mut models = 0;
+        let (mut models, mut fixed_models) = (0, 0);
         for case in 0..400 {
             let p = params(&mut rng);
             let count = p.z_max / (10.0 + 2000.0 * rng.unit());
@@ -682,6 +682,7 @@ mod tests {
             let mut fixed = Model::<Q16>::UNIT_COULOMB;
             if fixed.set_params(p).is_ok() {
                 if let Some(scale) = fixed.position_scale::<i32>(count) {
+                    fixed_models += 1;
                     let axis = Presliding::<i32, Q16>::new(0, scale).unwrap();
                     let counts = trajectory.iter().map(|&(x, v)| {
                         let v = fixed.velocity(v).unwrap_or(Q16::MAX);
@@ -692,5 +693,7 @@ mod tests {
             }
         }
         assert!(models > 300, "{models} models");
+        // Measured 294 of 400 in Q16 (the others outside its range).
+        assert!(fixed_models > 250, "{fixed_models} Q16 models");
     }
 }

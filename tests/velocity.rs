@@ -9,7 +9,7 @@ use breakaway::compensation::{ConfigError, Setting, VelocityConfig, VelocityEsti
 use breakaway::{Model, SampleError, Q16};
 
 mod support;
-use support::FIG5;
+use support::{worse, FIG5};
 
 const PERIOD: f32 = 1e-3;
 
@@ -37,7 +37,7 @@ fn error_decays_with_a_double_pole_at_exp_minus_bandwidth_times_period() {
     let mut worst = 0.0f64;
     for n in 1..errors.len() - 2 {
         let residual = errors[n + 2] - 2.0 * p * errors[n + 1] + p * p * errors[n];
-        worst = worst.max(residual.abs() / v0);
+        worst = worse(worst, residual.abs() / v0);
     }
     eprintln!("double pole: recurrence residual {worst:.2e} of v0");
     // Measured 2.2e-7 (f32 rounding).
@@ -94,7 +94,7 @@ fn no_lag_at_constant_speed_through_an_encoder_and_a_wrapping_counter() {
     let worst = settled
         .iter()
         .map(|&x| (f64::from(x) - v0).abs())
-        .fold(0.0, f64::max);
+        .fold(0.0, worse);
     eprintln!("constant speed: worst |v̂ − v| {worst:.3e} m/s");
     assert!(worst < 5e-4, "worst {worst}");
     // A 32-bit hardware counter that wraps through i32::MAX gives the same
@@ -114,14 +114,14 @@ fn q16_estimator_matches_the_f32_estimator() {
         VelocityEstimator::<i32, Q16>::with_units(config(3000.0), units, scale).unwrap();
     let mut float = VelocityEstimator::<i32>::new(config(3000.0), 1e-6).unwrap();
     // A reversal: x = A·(1 − cos 2πt), A = 1 mm, as the lab's benchmark.
-    let mut worst = 0.0f32;
+    let mut worst = 0.0f64;
     for n in 0..2000 {
         let t = n as f64 * PERIOD as f64;
         let x = 1e-3 * (1.0 - (2.0 * std::f64::consts::PI * t).cos());
         let count = (x / 1e-6).floor() as i32;
         let v_fixed = fixed.update(count).unwrap().to_f32() * units.velocity;
         let v_float = float.update(count).unwrap();
-        worst = worst.max((v_fixed - v_float).abs());
+        worst = worse(worst, f64::from((v_fixed - v_float).abs()));
     }
     // Q16 resolution of v̂: 2⁻¹⁶·V = 1.5e-8 m/s; of the travel per period
     // 2⁻¹⁶ length units (z_max/256) per ms, 6e-10 m/s. Measured 1.7e-8.

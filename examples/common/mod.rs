@@ -12,7 +12,7 @@ use cortex_m_semihosting::{debug, hprintln};
 #[path = "../../tests/support/mod.rs"]
 mod support;
 #[allow(unused_imports)]
-pub use support::{Strokes, CLOSED_LOOP_PLANT, FIG5, LONG_RUN};
+pub use support::{Strokes, BREAKAWAY_RATES, CLOSED_LOOP_PLANT, FIG5, LONG_RUN};
 
 use breakaway::{DefaultCurves, Model, Params, Presliding};
 

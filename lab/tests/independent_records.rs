@@ -144,8 +144,7 @@ const RECORDS: [&str; 4] = ["servo_null", "servo_offset", "servo_lag", "servo_dw
 
 #[test]
 fn outside_generator_examples() {
-    if !dir().join("servo_null.csv").exists() {
-        println!("note: {} not found; skipped", dir().display());
+    if common::shared_or_skip("independent/servo_null.csv").is_none() {
         return;
     }
     let exact = RECORDS
@@ -158,8 +157,7 @@ fn outside_generator_examples() {
 /// Each record cut in two halves in time, each half diagnosed alone.
 #[test]
 fn outside_generator_examples_by_halves() {
-    if !dir().join("servo_null.csv").exists() {
-        println!("note: {} not found; skipped", dir().display());
+    if common::shared_or_skip("independent/servo_null.csv").is_none() {
         return;
     }
     let mut exact = 0;

@@ -12,8 +12,8 @@ use proptest::prelude::*;
 
 mod common;
 use common::{
-    boundary, check, params, reference_break_away, reference_model, samples, trajectory, Segment,
-    Worst,
+    boundary, check, params, reference_break_away, reference_model, samples, trajectory, worse,
+    Segment, Worst,
 };
 
 static WORST_FRICTION: Worst = Worst::new();
@@ -32,7 +32,7 @@ fn friction_error(p: &Params, segments: &[Segment]) -> f64 {
         let v = v * p.v_stribeck;
         let f = lib.update(&model, at, v).unwrap();
         let f_ref = judge.update(&judge_model, at as f64 * count as f64, v as f64);
-        worst = worst.max((f as f64 - f_ref).abs() / p.fs as f64);
+        worst = worse(worst, (f as f64 - f_ref).abs() / p.fs as f64);
     }
     worst
 }
@@ -61,9 +61,10 @@ fn break_away_matches_reference_within_1e_4() {
             let want = reference_break_away(&judge_model, variant, k as f64, w_b as f64);
             let got = predictor.predict(&model, variant, k).unwrap();
             let rel = |a: f32, b: f64| ((a as f64 - b) / b).abs();
-            let error = rel(got.f_ba, want.f_ba)
-                .max(rel(got.v_b, want.v_b))
-                .max(rel(got.t_ba, want.t_ba));
+            let error = worse(
+                worse(rel(got.f_ba, want.f_ba), rel(got.v_b, want.v_b)),
+                rel(got.t_ba, want.t_ba),
+            );
             WORST_BREAKAWAY.within(error, 1e-4, || format!("{variant:?} k={k} w_b={w_b} {p:?}"))?;
         }
         Ok(())

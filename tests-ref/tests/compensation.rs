@@ -10,7 +10,7 @@ use breakaway::{Model, Params, SampleError, Variant};
 use breakaway_reference as reference;
 
 mod common;
-use common::{reference_model, Plant, FIG5};
+use common::{reference_model, worse, Plant, FIG5};
 
 /// Fig. 5 with viscous friction σ = 50 N·s/m (σ·V = Fs/30).
 const VISCOUS: Params = Params {
@@ -40,7 +40,7 @@ fn feedforward_follows_the_reference_presliding_model() {
         let (x, v) = ripple(n);
         let u = ff.update(&model, x as f32, v as f32).unwrap();
         let want = judge.update(&judge_model, x as f32 as f64, v as f32 as f64);
-        worst = worst.max((u as f64 - want).abs() / p.fs as f64);
+        worst = worse(worst, (u as f64 - want).abs() / p.fs as f64);
     }
     assert!(worst < 1e-5, "feedforward vs reference: {worst:.2e}·Fs");
 }
@@ -52,7 +52,7 @@ fn feedforward_ramps_through_a_reversal() {
     // from +S to −S, while sgn(v_ref) steps by 2·Fc in one sample.
     let model = Model::<f32>::new(FIG5).unwrap();
     let mut ff = Feedforward::<f32>::new(FeedforwardConfig::default(), 0.0, 1.0).unwrap();
-    let (mut largest_step, mut last) = (0.0f32, None::<f32>);
+    let (mut largest_step, mut last) = (0.0f64, None::<f32>);
     let w = 2.0 * core::f32::consts::PI * 0.5;
     for n in 250..1000 {
         let t = n as f32 * 1e-3;
@@ -64,7 +64,7 @@ fn feedforward_ramps_through_a_reversal() {
             )
             .unwrap();
         if let Some(l) = last {
-            largest_step = largest_step.max((u - l).abs());
+            largest_step = worse(largest_step, f64::from((u - l).abs()));
         }
         last = Some(u);
     }
@@ -146,7 +146,7 @@ fn sliding_run(
     v_ref: f64,
     seconds: f64,
     explain: bool,
-) -> (Plant, DisturbanceObserver, LevelAdaptation, f32) {
+) -> (Plant, DisturbanceObserver, LevelAdaptation, f64) {
     const T: f32 = 1e-3;
     let model = Model::<f32>::new(FIG5).unwrap();
     let mut plant = Plant::new(reference::Model {
@@ -170,7 +170,7 @@ fn sliding_run(
     })
     .unwrap();
     let (mut integral, mut u, mut u_ff) = (0.0f64, 0.0f64, 0.0f32);
-    let mut worst_residual = 0.0f32;
+    let mut worst_residual = 0.0f64;
     let steps = (seconds / T as f64) as usize;
     for n in 0..steps {
         let t = n as f64 * T as f64;
@@ -187,7 +187,7 @@ fn sliding_run(
         }
         u_ff = ff.update(&model, (v_ref * t) as f32, v_ref as f32).unwrap();
         if t > seconds - 0.5 {
-            worst_residual = worst_residual.max(r.abs());
+            worst_residual = worse(worst_residual, f64::from(r.abs()));
         }
         let e = v_ref - plant.v;
         integral += e * T as f64;
@@ -381,7 +381,7 @@ fn detector_measures_the_break_away_of_the_reference_dynamics() {
         let m = found.expect("break-away detected");
         assert!((m.rate as f64 - k).abs() < 1e-3 * k, "k {} vs {k}", m.rate);
         let error = (m.force as f64 - want.f_ba).abs() / want.f_ba;
-        worst = worst.max(error);
+        worst = worse(worst, error);
         println!(
             "k = {k}: detected F_ba {} N, reference dynamics {} N",
             m.force, want.f_ba
@@ -517,10 +517,10 @@ fn fixed_detector_matches_the_f32_detector_on_the_reference_dynamics() {
                  {k_bound:.1e}), F_ba {df:.1e} N, t {dt:.1e} s, predicted F_ba {dp:.1e} relative",
                 a.time as f64 / period,
             );
-            worst_k = worst_k.max(dk);
-            worst_f = worst_f.max(df / a.force as f64);
-            worst_t = worst_t.max(dt);
-            worst_p = worst_p.max(dp);
+            worst_k = worse(worst_k, dk);
+            worst_f = worse(worst_f, df / a.force as f64);
+            worst_t = worse(worst_t, dt);
+            worst_p = worse(worst_p, dp);
         }
     }
     println!(
@@ -785,7 +785,7 @@ fn fixed_feedforward_follows_the_reference_presliding_model() {
         let v_seen = v_q.to_f32() as f64 * p.v_stribeck as f64;
         let v_seen = if v_seen.abs() <= 1e-6 { 0.0 } else { v_seen };
         let want = judge.update(&judge_model, count as f64 * 1e-8, v_seen);
-        worst = worst.max((u - want).abs() / p.fs as f64);
+        worst = worse(worst, (u - want).abs() / p.fs as f64);
     }
     assert!(worst < 1e-3, "Q16 feedforward vs reference: {worst:.2e}·Fs");
 }
@@ -816,7 +816,10 @@ fn fixed_observer_matches_the_f32_observer_on_the_reference_plant() {
                 Q16::ZERO,
             )
             .unwrap();
-        worst = worst.max((q.to_f32() * FIG5.fs - r).abs() as f64 / FIG5.fs as f64);
+        worst = worse(
+            worst,
+            (q.to_f32() * FIG5.fs - r).abs() as f64 / FIG5.fs as f64,
+        );
         let e = v_ref - plant.v;
         integral += e * T as f64;
         u = 300.0 * e + 3000.0 * integral;
@@ -858,7 +861,7 @@ fn split_feedforward_is_the_reference_model_at_the_scaled_levels() {
         .unwrap()
         .with_split_levels();
     even.set_level_scales(1.1, 1.1);
-    let (mut worst, mut worst_coulomb, mut worst_even) = (0.0f64, 0.0f64, 0.0f32);
+    let (mut worst, mut worst_coulomb, mut worst_even) = (0.0f64, 0.0f64, 0.0f64);
     for n in 0..4000 {
         let t = n as f64 * 1e-3;
         let w = 2.0 * std::f64::consts::PI * 0.5;
@@ -867,13 +870,13 @@ fn split_feedforward_is_the_reference_model_at_the_scaled_levels() {
         let (xf, vf) = (x as f32, v as f32);
         let u = ff.update(&model, xf, vf).unwrap();
         let want = judge.update(&judge_model, xf as f64, vf as f64);
-        worst = worst.max((u as f64 - want).abs() / FIG5.fs as f64);
+        worst = worse(worst, (u as f64 - want).abs() / FIG5.fs as f64);
         let want_c = coulomb_judge.update(&coulomb_model, xf as f64, vf as f64);
-        worst_coulomb = worst_coulomb.max((ff.coulomb_dry() as f64 - want_c).abs());
+        worst_coulomb = worse(worst_coulomb, (ff.coulomb_dry() as f64 - want_c).abs());
         // θ_c = θ_s = θ is the single scale θ.
         let a = plain.update(&model, xf, vf).unwrap();
         let b = even.update(&model, xf, vf).unwrap();
-        worst_even = worst_even.max((a - b).abs());
+        worst_even = worse(worst_even, f64::from((a - b).abs()));
     }
     assert!(
         worst < 1e-5,
@@ -894,7 +897,7 @@ fn split_feedforward_is_the_reference_model_at_the_scaled_levels() {
 /// stiction adaptation, with a shadow Q16 adaptation fed the same samples.
 /// Returns (θ_c, θ_s) of f32 and Q16 and the largest difference between
 /// them over the run.
-fn stiction_run(fc: f64, fs: f64, seconds: f64) -> ([f32; 2], [f32; 2], f32) {
+fn stiction_run(fc: f64, fs: f64, seconds: f64) -> ([f32; 2], [f32; 2], f64) {
     stiction_drift_run(fc, fs, None, seconds)
 }
 
@@ -904,7 +907,7 @@ fn stiction_drift_run(
     fs: f64,
     drift: Option<(f64, f64)>,
     seconds: f64,
-) -> ([f32; 2], [f32; 2], f32) {
+) -> ([f32; 2], [f32; 2], f64) {
     use breakaway::compensation::{StictionAdaptation, StictionConfig};
     use breakaway::Q16;
     const T: f64 = 1e-3;
@@ -943,7 +946,7 @@ fn stiction_drift_run(
     let omega = 125.0;
     let (kp, ki, kd) = (3.0 * omega * omega, omega * omega * omega, 3.0 * omega);
     let (mut integral, mut u, mut u_ff) = (0.0f64, 0.0f64, 0.0f32);
-    let mut worst = 0.0f32;
+    let mut worst = 0.0f64;
     let w = 2.0 * std::f64::consts::PI;
     for n in 0..(seconds / T) as usize {
         let t = n as f64 * T;
@@ -962,9 +965,10 @@ fn stiction_drift_run(
         let r_q = Q16::from_f32(r / units.force).unwrap();
         let (cq, sq) = fixed.update(r_q, &fixed_ff, v_q).unwrap();
         fixed_ff.set_level_scales(cq, sq);
-        worst = worst
-            .max((cq.to_f32() - c).abs())
-            .max((sq.to_f32() - s).abs());
+        worst = worse(
+            worse(worst, f64::from((cq.to_f32() - c).abs())),
+            f64::from((sq.to_f32() - s).abs()),
+        );
         u_ff = ff.update(&model, x_ref as f32, v_ref as f32).unwrap();
         fixed_ff
             .update(&fixed_model, (x_ref / 1e-8).round() as i32, v_q)
@@ -989,7 +993,7 @@ fn stiction_drift_run(
 /// level θ_c·Fc + θ_s·(Fs − Fc) within 3 % of Fs, and the Q16 scales within
 /// 0.02 of the f32 ones all along (`run`: the f32 scales, the Q16 scales,
 /// the largest Q16 − f32 difference).
-fn check_levels(fc: f64, fs: f64, run: ([f32; 2], [f32; 2], f32)) {
+fn check_levels(fc: f64, fs: f64, run: ([f32; 2], [f32; 2], f64)) {
     let ([c, s], [cq, sq], worst) = run;
     let want_c = (fc / FIG5.fc as f64) as f32;
     let want_s = ((fs - fc) / (FIG5.fs - FIG5.fc) as f64) as f32;

@@ -15,8 +15,8 @@ use proptest::prelude::*;
 
 mod common;
 use common::{
-    boundary, check, params, reference_break_away, reference_model, samples, trajectory, Segment,
-    Worst, FIG5,
+    boundary, check, params, reference_break_away, reference_model, samples, trajectory, worse,
+    Segment, Worst, FIG5,
 };
 
 /// Worst |F − F_ref|/Fs over the samples of `segments` (in steps of
@@ -36,7 +36,7 @@ fn friction_error(p: &Params, segments: &[Segment], per_z_max: f64) -> f64 {
         let v_si = v_q.to_f32() as f64 * p.v_stribeck as f64;
         let f = lib.update(&model, at, v_q).unwrap().to_f32() as f64 * p.fs as f64;
         let f_ref = judge.update(&judge_model, at as f64 * count as f64, v_si);
-        worst = worst.max((f - f_ref).abs() / p.fs as f64);
+        worst = worse(worst, (f - f_ref).abs() / p.fs as f64);
     }
     worst
 }
@@ -54,7 +54,7 @@ fn fixed_friction_within_1e_3_fs_at_every_encoder_resolution() {
             &(params(0.5..2.0), trajectory(64.0)),
             |(p, segments)| {
                 let error = friction_error(&p, &segments, per_z_max);
-                worst.set(worst.get().max(error));
+                worst.set(worse(worst.get(), error));
                 prop_assert!(
                     error <= 1e-3,
                     "|ΔF| = {error:e}·Fs at {per_z_max:e} counts per z_max for {p:?}"

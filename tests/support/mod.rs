@@ -23,6 +23,13 @@ pub const FIG5: Params = Params {
     epsilon: 0.0,
 };
 
+/// The force rates k [N/s] of the break-away table (`breakaway_table`
+/// firmware, checked row by row by `cargo xtask test`): the paper's grid,
+/// k = 0.01, then 1 … 29 in steps of 2, and 30 N/s.
+pub const BREAKAWAY_RATES: [f32; 17] = [
+    0.01, 1.0, 3.0, 5.0, 7.0, 9.0, 11.0, 13.0, 15.0, 17.0, 19.0, 21.0, 23.0, 25.0, 27.0, 29.0, 30.0,
+];
+
 /// The long runs' setting: Fig. 5 with a shape exponent off the usual ones
 /// (δ = 1.3) and viscous friction (σ = 0.2 N·s/m).
 pub const LONG_RUN: Params = Params {
@@ -114,5 +121,17 @@ impl Iterator for Strokes {
             self.x = (self.x - self.step).max(self.target);
         }
         Some((self.x, self.v))
+    }
+}
+
+/// The larger of `worst` and `error`, a NaN kept: `f64::max` drops a NaN,
+/// so an error fold written with it reads a comparison that produced NaN
+/// as no error at all, and the bound checked after it passes having
+/// compared nothing. Once NaN, the fold stays NaN and fails any `<=` bound.
+pub fn worse(worst: f64, error: f64) -> f64 {
+    if worst.is_nan() || error <= worst {
+        worst
+    } else {
+        error
     }
 }

@@ -18,10 +18,15 @@ fn fig5() -> Result<reference::Model, String> {
 }
 
 fn field(fields: &[&str], i: usize, line: &str) -> Result<f64, String> {
+    // `"NaN".parse()` is a NaN, which every `>` bound after it lets through:
+    // a firmware figure must be finite.
     fields
         .get(i)
         .and_then(|s| s.parse::<f64>().ok())
-        .ok_or_else(|| format!("malformed firmware line `{line}`"))
+        .filter(|x| x.is_finite())
+        .ok_or_else(|| {
+            format!("malformed firmware line `{line}` (field {i} missing or not finite)")
+        })
 }
 
 /// The lines of `example`'s output that start with `tag` ([`records`]),
@@ -93,7 +98,25 @@ pub fn no_panic(target: Target) -> Result<String, String> {
 pub fn breakaway_table(target: Target) -> Result<String, String> {
     let output = qemu::run_example("breakaway_table", target)?;
     let model = fig5()?;
-    let rows = counted(&output, "ba", "breakaway_table", 4 * 17)?;
+    let rows = counted(
+        &output,
+        "ba",
+        "breakaway_table",
+        4 * support::BREAKAWAY_RATES.len(),
+    )?;
+    // Each row is judged at the rate it prints: the rows must be the grid,
+    // every variant at every rate in order, not any rows that agree.
+    let grid = reference::Variant::ALL
+        .iter()
+        .flat_map(|v| support::BREAKAWAY_RATES.map(|k| (v.name(), k)));
+    for ((line, fields), (variant, k)) in rows.iter().zip(grid) {
+        // The firmware prints the f32 rate; read back, it is that f32.
+        if fields.get(1) != Some(&variant) || field(fields, 2, line)? as f32 != k {
+            return Err(format!(
+                "breakaway_table: `{line}` where the grid has {variant} at k = {k}"
+            ));
+        }
+    }
     let mut worst = 0.0f64;
     for (line, fields) in &rows {
         let want = reference_break_away(&model, fields, line, field(fields, 2, line)?)?;
@@ -174,7 +197,8 @@ pub fn presliding_loop(target: Target) -> Result<String, String> {
 }
 
 /// Every on-target check on every target, or those whose name contains one
-/// of `only` (all when `only` is empty).
+/// of `only` (all when `only` is empty); a name in `only` that matches no
+/// check is an error, not an empty run that passes.
 pub fn all(only: &[String]) -> Result<Vec<String>, String> {
     type Check = fn(Target) -> Result<String, String>;
     let per_target: [(&str, Check); 4] = [
@@ -190,6 +214,22 @@ pub fn all(only: &[String]) -> Result<Vec<String>, String> {
         ("closed_loop_fixed", closed_loop_fixed),
         ("compensation_fixed", compensation_fixed),
     ];
+    let names = || {
+        per_target
+            .iter()
+            .chain(&m4f_only)
+            .chain(&m0_only)
+            .map(|(name, _)| *name)
+    };
+    if let Some(unknown) = only
+        .iter()
+        .find(|o| !names().any(|n| n.contains(o.as_str())))
+    {
+        return Err(format!(
+            "no on-target check is named like `{unknown}`; the checks: {}",
+            names().collect::<Vec<_>>().join(", ")
+        ));
+    }
     let wanted = |name: &str| only.is_empty() || only.iter().any(|o| name.contains(o.as_str()));
     let mut report = Vec::new();
     for target in qemu::TARGETS {
@@ -259,7 +299,8 @@ mod support;
 #[allow(dead_code)]
 mod compensation_loop;
 
-/// Flash and RAM budget of the whole Q16 compensation loop on the M0.
+/// Flash and RAM budget of the whole Q16 compensation loop on the M0 (a
+/// part with 16 KiB of flash and 2 KiB of RAM); over either is an error.
 const LOOP_FLASH_BUDGET: u64 = 16 * 1024;
 const LOOP_RAM_BUDGET: u64 = 2 * 1024;
 
@@ -306,14 +347,23 @@ pub fn compensation_fixed(target: Target) -> Result<String, String> {
     if flash == 0 {
         return Err(format!("{}: no .text section found", elf.display()));
     }
+    // A stack depth of 0 is a painting that read nothing, not a loop that
+    // needs no stack.
+    if stack == 0 {
+        return Err("compensation_fixed: the painted stack reads 0 B".into());
+    }
     let ram = statics + stack;
-    let verdict = |x: u64, budget: u64| if x <= budget { "within" } else { "OVER" };
+    if flash > LOOP_FLASH_BUDGET || ram > LOOP_RAM_BUDGET {
+        return Err(format!(
+            "compensation_fixed on {}: flash {flash} B (budget {LOOP_FLASH_BUDGET} B), RAM {ram} B \
+             = {statics} B static + {stack} B stack (budget {LOOP_RAM_BUDGET} B)",
+            target.core
+        ));
+    }
     Ok(format!(
-        "compensation_fixed on {}: flash {flash} B ({} {LOOP_FLASH_BUDGET} B), RAM {ram} B = {statics} B static \
-         + {stack} B stack ({} {LOOP_RAM_BUDGET} B); no f64 routine linked; duty checksum {duty} = host",
-        target.core,
-        verdict(flash, LOOP_FLASH_BUDGET),
-        verdict(ram, LOOP_RAM_BUDGET)
+        "compensation_fixed on {}: flash {flash} B (within {LOOP_FLASH_BUDGET} B), RAM {ram} B = {statics} B static \
+         + {stack} B stack (within {LOOP_RAM_BUDGET} B); no f64 routine linked; duty checksum {duty} = host",
+        target.core
     ))
 }
 
@@ -484,7 +534,8 @@ fn compare_closed_loop(
     ];
     for (i, want) in expected.iter().enumerate() {
         let got = field(fields, i + 1, line)?;
-        if ((got - want) / want).abs() > 1e-6 {
+        let off = ((got - want) / want).abs();
+        if off.is_nan() || off > 1e-6 {
             return Err(format!(
                 "{example}: `{line}` field {} is {got}, the host benchmark uses {want}",
                 i + 1
@@ -498,8 +549,10 @@ fn compare_closed_loop(
     let mut summary = Vec::new();
     for ((line, fields), &(compensator, encoder)) in rows.iter().zip(runs) {
         let printed_encoder = field(fields, 2, line)?;
+        let encoder_off = (printed_encoder - encoder).abs();
         if fields.get(1) != Some(&compensator.name())
-            || (printed_encoder - encoder).abs() > 1e-3 * encoder.max(1e-9)
+            || encoder_off.is_nan()
+            || encoder_off > 1e-3 * encoder.max(1e-9)
         {
             return Err(format!(
                 "{example}: `{line}`, expected {} at encoder {encoder}",

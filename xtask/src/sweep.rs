@@ -277,19 +277,23 @@ pub struct Validation {
 }
 
 /// What `truth.json` of the generator says about a record (the fields the
-/// score reads; a missing field is empty).
+/// score reads; a missing field is empty, but for `hidden`: a truth without
+/// it would score every record as effect-free).
 #[derive(Debug, Default, Deserialize)]
-#[serde(default)]
 pub struct Truth {
     /// Hidden effects.
     pub hidden: Vec<String>,
     /// Effects a correct diagnosis may add.
+    #[serde(default)]
     pub accept_extra: Vec<String>,
     /// Visibility per hidden effect (`null` when not finite).
+    #[serde(default)]
     pub visibility: HashMap<String, Option<f64>>,
     /// Plant of the generator (`model` when absent).
+    #[serde(default)]
     pub plant: Option<String>,
     /// The true model's levels.
+    #[serde(default)]
     pub model: Option<Levels>,
 }
 
@@ -401,7 +405,7 @@ pub fn sweep(o: &Options) -> Result<Vec<Scored>, String> {
 fn sweep_with(bin: &Path, o: &Options) -> Result<Vec<Scored>, String> {
     let lab = o.lab.clone().unwrap_or_else(|| bin.join("breakaway-lab"));
     let dirs = generate(bin, o)?;
-    Ok(score_all(&lab, &dirs, o.rescore))
+    score_all(&lab, &dirs, o.rescore)
 }
 
 /// Builds the generator and the lab; returns the directory of their
@@ -459,16 +463,19 @@ fn seed_of(dir: &Path) -> Option<u64> {
 
 /// Diagnoses (unless `rescore`: the reports are already there) and scores
 /// the records in `dirs` (two at a time), sorted by name.
-fn score_all(lab: &Path, dirs: &[PathBuf], rescore: bool) -> Vec<Scored> {
+/// Every record of `dirs` diagnosed (or, with `rescore`, its report read
+/// again) and scored against its truth; an unreadable truth is an error,
+/// not an effect-free record.
+fn score_all(lab: &Path, dirs: &[PathBuf], rescore: bool) -> Result<Vec<Scored>, String> {
     let total = dirs.len();
     let done = AtomicUsize::new(0);
     let bar = progress_bar(total);
-    let one = |dir: &PathBuf| -> Scored {
+    let one = |dir: &PathBuf| -> Result<Scored, String> {
         let name = dir
             .file_name()
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_default();
-        let truth = read_json(&dir.join("truth.json")).unwrap_or_default();
+        let truth = read_json(&dir.join("truth.json"))?;
         let report_path = dir.join("report.json");
         let report = if rescore {
             read_json(&report_path)
@@ -510,23 +517,35 @@ fn score_all(lab: &Path, dirs: &[PathBuf], rescore: bool) -> Vec<Scored> {
             bar.println(line);
             bar.inc(1);
         }
-        s
+        Ok(s)
     };
-    let mut scored: Vec<Scored> = std::thread::scope(|sc| {
+    let scored: Result<Vec<Scored>, String> = std::thread::scope(|sc| {
         let hs: Vec<_> = (0..2)
             .map(|t| {
                 let dirs = &dirs;
                 let one = &one;
-                sc.spawn(move || dirs.iter().skip(t).step_by(2).map(one).collect::<Vec<_>>())
+                sc.spawn(move || {
+                    dirs.iter()
+                        .skip(t)
+                        .step_by(2)
+                        .map(one)
+                        .collect::<Result<Vec<_>, _>>()
+                })
             })
             .collect();
-        hs.into_iter()
-            .flat_map(|h| h.join().unwrap_or_default())
-            .collect()
+        let mut all = Vec::new();
+        for h in hs {
+            all.extend(
+                h.join()
+                    .map_err(|_| "sweep: a scoring thread panicked".to_string())??,
+            );
+        }
+        Ok(all)
     });
     bar.finish_and_clear();
+    let mut scored = scored?;
     scored.sort_by(|a, b| a.name.cmp(&b.name));
-    scored
+    Ok(scored)
 }
 
 /// `breakaway-lab validate` of the model file `model` (the record's
@@ -993,8 +1012,12 @@ pub fn smoke() -> Result<(), String> {
         s.null_records,
         s.median_shrink
     );
-    if scored.is_empty() {
-        return Err("sweep subset: no record was generated".into());
+    let expected = (o.to - o.from) as usize;
+    if scored.len() != expected {
+        return Err(format!(
+            "sweep subset: {} records scored, {expected} expected",
+            scored.len()
+        ));
     }
     if let Some(f) = scored.iter().find(|x| x.failed.is_some()) {
         return Err(format!(
@@ -1033,7 +1056,7 @@ pub fn smoke() -> Result<(), String> {
         };
         dirs.extend(generate(&bin, &o)?);
     }
-    let scored = score_all(&bin.join("breakaway-lab"), &dirs, false);
+    let scored = score_all(&bin.join("breakaway-lab"), &dirs, false)?;
     for &(seed, _, guard, what) in SMOKE_CASES {
         let found = dirs
             .iter()

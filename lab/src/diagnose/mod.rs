@@ -1462,6 +1462,7 @@ mod tests {
         for effect in [Effect::Offset, Effect::Asymmetry, Effect::Viscous] {
             let n = candidate_starts(&p, &short, effect, &r).len();
             let starts = candidate_starts(&p, &long, effect, &r);
+            assert!(n > 0, "{effect}: no starts to restart");
             assert_eq!(starts.len(), 3 * n, "{effect}");
             let z: Vec<f64> = starts[n..].iter().map(|c| c.z_max / p.resolution).collect();
             let near = |a: f64, b: f64| (a - b).abs() < 1e-9;

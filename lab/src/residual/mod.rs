@@ -729,9 +729,15 @@ impl Prepared {
 
 /// The model error [N] in a weighted RMS `rms` [N] whose noise-and-
 /// resolution part is `floor` [N] ([`Prepared::floor`]):
-/// `√max(rms² − floor², 0)`.
+/// `√max(rms² − floor², 0)`; NaN where either is.
 pub fn model_error(rms: f64, floor: f64) -> f64 {
-    (rms * rms - floor * floor).max(0.0).sqrt()
+    // `f64::max` would turn a NaN into 0, a perfect model.
+    let excess = rms * rms - floor * floor;
+    if excess.is_nan() {
+        excess
+    } else {
+        excess.max(0.0).sqrt()
+    }
 }
 #[cfg(test)]
 pub(crate) mod tests {
@@ -775,6 +781,8 @@ pub(crate) mod tests {
                 force: 32,
             },
         );
+        // 400 samples less the kernel's 32 at either end.
+        assert_eq!(p.valid().len(), 400 - 2 * 32);
         for i in p.valid() {
             assert!((p.a[i] - 2.0).abs() < 1e-6, "a[{i}] = {}", p.a[i]);
             assert!((p.v[i] - 2.0 * p.t[i]).abs() < 1e-9, "v[{i}] = {}", p.v[i]);

@@ -22,13 +22,24 @@ pub fn shared_data(rel: &str) -> PathBuf {
         .join(rel)
 }
 
+/// Set (to anything) where the shared data must be present: `cargo xtask
+/// test` sets it when it finds `shared/data` beside the repository, so that
+/// a test looking in the wrong place fails instead of passing on nothing.
+pub const REQUIRE_SHARED: &str = "BREAKAWAY_REQUIRE_SHARED";
+
 /// `rel` in the shared data directory as a string, or `None` (after a note)
-/// when it is absent: the test that needs it is then skipped.
+/// when it is absent: the test that needs it is then skipped, unless
+/// [`REQUIRE_SHARED`] is set, where the absence fails the test.
 pub fn shared_or_skip(rel: &str) -> Option<String> {
     let f = shared_data(rel);
     if f.exists() {
         Some(f.to_string_lossy().into_owned())
     } else {
+        assert!(
+            std::env::var_os(REQUIRE_SHARED).is_none(),
+            "{} not found, and {REQUIRE_SHARED} is set: the test would compare nothing",
+            f.display()
+        );
         println!("note: {} not found; skipped", f.display());
         None
     }

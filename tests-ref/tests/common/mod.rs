@@ -16,7 +16,7 @@ use proptest::test_runner::{Config, RngAlgorithm, TestCaseResult, TestRng, TestR
 #[path = "../../../tests/support/mod.rs"]
 mod support;
 #[allow(unused_imports)] // each test file uses its own subset
-pub use support::{Rng, Strokes, FIG5, LONG_RUN};
+pub use support::{worse, Rng, Strokes, FIG5, LONG_RUN};
 
 /// The library's parameters as a reference model (m = 1 kg, no effects).
 pub fn reference_model(p: &Params) -> reference::Model {
@@ -153,10 +153,10 @@ impl Worst {
     }
 
     /// Keeps `error` when it is the worst so far, with its case (described
-    /// only then).
+    /// only then); a NaN is the worst of all and stays.
     pub fn record(&self, error: f64, case: impl FnOnce() -> String) {
         let mut worst = self.0.lock().unwrap();
-        if error > worst.0 {
+        if error > worst.0 || (error.is_nan() && !worst.0.is_nan()) {
             *worst = (error, case());
         }
     }
