@@ -7,13 +7,16 @@
 //!   the inertia number [`inertia_number`] (MODEL.md §4) and [`pi_number`]
 //!   (MODEL.md §8).
 
-use crate::reference::{self, Model, Variant};
+use crate::reference::{self, Effect, Model, Variant};
 use crate::Error;
 use std::path::Path;
 
 /// Loads and checks a model file (MODEL.md §7) as the workflow does
 /// ([`crate::workflow::load_model`]). The break-away analysis needs
-/// presliding, so `z_max = 0` (allowed in files) is refused here.
+/// presliding, so `z_max = 0` (allowed in files) is refused here, and it
+/// covers the model of §2–§4 alone, so is a table of §5's additions: a
+/// prediction that left out the file's `offset` or `drift` would be a
+/// number for another model.
 pub fn load_model(path: &Path) -> Result<Model, Error> {
     let model = crate::workflow::load_model(path)?;
     if model.z_max.is_nan() || model.z_max <= 0.0 {
@@ -23,7 +26,35 @@ pub fn load_model(path: &Path) -> Result<Model, Error> {
             model.z_max
         )));
     }
+    let beyond: Vec<&str> = crate::fit::effects_of(&model)
+        .into_iter()
+        .filter(|&e| !in_breakaway_model(e))
+        .map(|e| e.name())
+        .collect();
+    if !beyond.is_empty() {
+        return Err(Error::Runtime(format!(
+            "model file {}: [effects.{}]: the break-away prediction (MODEL.md §4) covers the \
+             Coulomb, Stribeck, viscous and presliding friction of §2–§3 only",
+            path.display(),
+            beyond.join("], [effects.")
+        )));
+    }
     Ok(model)
+}
+
+/// Whether the break-away of MODEL.md §4 includes `e`: the parts of the
+/// §2–§3 model do, the additions of §5 do not.
+fn in_breakaway_model(e: Effect) -> bool {
+    match e {
+        Effect::Viscous | Effect::Stribeck | Effect::Presliding => true,
+        Effect::NonlinearViscous
+        | Effect::Offset
+        | Effect::Asymmetry
+        | Effect::PositionRipple
+        | Effect::DwellStiction
+        | Effect::FrictionalLag
+        | Effect::Drift => false,
+    }
 }
 
 /// The full-dynamics break-away (MODEL.md §4, last paragraph).
@@ -53,8 +84,21 @@ pub struct BreakawayRow {
 }
 
 fn predict(m: &Model, v: Variant, k: f64, w_b: f64) -> Result<reference::BreakAway, Error> {
-    reference::predict_break_away(m, v, k, w_b)
-        .map_err(|e| Error::Runtime(format!("{} at k = {k:?}: {e}", v.name())))
+    let ba = reference::predict_break_away(m, v, k, w_b)
+        .map_err(|e| Error::Runtime(format!("{} at k = {k:?}: {e}", v.name())))?;
+    // A rate so small that the time to break away overflows (k = 1e-320
+    // N/s: t_ba = ∞) has no prediction to print.
+    if [ba.v_b, ba.f_ba, ba.t_ba].iter().all(|x| x.is_finite()) {
+        Ok(ba)
+    } else {
+        Err(Error::Runtime(format!(
+            "{} at k = {k:?}: the prediction is not finite (v_b {}, F_ba {}, t_ba {}): k is out of the range it can be computed for",
+            v.name(),
+            ba.v_b,
+            ba.f_ba,
+            ba.t_ba
+        )))
+    }
 }
 
 fn simulate(m: &Model, k: f64, w_b: f64) -> Result<Dynamic, Error> {

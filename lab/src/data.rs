@@ -124,6 +124,15 @@ pub(crate) fn trimmed(record: &csv::StringRecord) -> Vec<&str> {
 
 /// Parses CSV text (MODEL.md §6); `path` only names the file in errors.
 pub fn parse_csv(text: &str, path: &Path) -> Result<Record, Error> {
+    // Lines end at `\n` (or `\r\n`); a file whose lines end at `\r` alone
+    // would read as one line.
+    if text.contains('\r') && !text.contains('\n') {
+        return Err(err(
+            path,
+            "lines end with a carriage return alone (old Mac line endings); \
+             convert them to `\\n` or `\\r\\n`",
+        ));
+    }
     let mut lines = rows(text);
     let Some((hline, header)) = lines.next() else {
         return Err(err(

@@ -60,7 +60,7 @@ impl Curve {
 pub struct StaticFit {
     /// All points.
     pub points: Vec<Point>,
-    /// One curve per direction with at least 5 points.
+    /// One curve per direction with readings at [`MIN_SPEEDS`] distinct speeds at least.
     pub curves: Vec<Curve>,
 }
 
@@ -78,7 +78,10 @@ pub fn read(path: &Path) -> Result<Vec<Point>, Error> {
             header = true;
             continue;
         }
-        if !header || !first.starts_with(|c: char| c == '-' || c == '.' || c.is_ascii_digit()) {
+        // Before the header: the logger's preamble. After it, every row
+        // that is not blank is a reading, read or refused: a row skipped
+        // for its look would be a speed lost without a word.
+        if !header || first.is_empty() {
             continue;
         }
         let f: Vec<&str> = crate::data::trimmed(&row)
@@ -104,6 +107,7 @@ pub fn read(path: &Path) -> Result<Vec<Point>, Error> {
                     ))
                 })
         };
+        num(0, "desired vel")?;
         let v = num(1, "real vel")?;
         let tau = num(2, "tau")?;
         pts.push(Point {
@@ -127,12 +131,26 @@ pub fn read(path: &Path) -> Result<Vec<Point>, Error> {
     Ok(pts)
 }
 
+/// Fewest distinct speeds in a direction for its curve to be fitted: the
+/// curve has five parameters (Fc, Fs, V, δ, σ), and readings repeated at
+/// one speed do not make another.
+pub const MIN_SPEEDS: usize = 5;
+
+/// The number of distinct speeds among `speeds` [rad/s or m/s], 0 not
+/// counted (a reading at rest is no point of the sliding curve).
+pub fn distinct_speeds(speeds: impl Iterator<Item = f64>) -> usize {
+    let mut s: Vec<f64> = speeds.map(f64::abs).filter(|&s| s > 0.0).collect();
+    s.sort_by(f64::total_cmp);
+    s.dedup();
+    s.len()
+}
+
 fn fit_direction(pts: &[Point], direction: i8) -> Option<Curve> {
     let sel: Vec<&Point> = pts
         .iter()
         .filter(|p| p.v * f64::from(direction) > 0.0)
         .collect();
-    if sel.len() < 5 {
+    if distinct_speeds(sel.iter().map(|p| p.v)) < MIN_SPEEDS {
         return None;
     }
     let s: Vec<f64> = sel.iter().map(|p| p.v.abs()).collect();
@@ -221,7 +239,7 @@ pub fn run(path: &Path) -> Result<StaticFit, Error> {
         .collect();
     if curves.is_empty() {
         return Err(Error::Runtime(format!(
-            "{}: no direction has 5 points to fit",
+            "{}: no direction has readings at {MIN_SPEEDS} distinct speeds to fit",
             path.display()
         )));
     }

@@ -764,22 +764,34 @@ pub fn diagnose_steady(rec: &SteadyRecord, candidates: &[Effect]) -> SteadyRepor
 
 /// Reads a steady-state record: the Indy7 layout (`desired vel, real vel,
 /// tau` in deg/s and N·m) or a CSV with columns `v` and `u` (SI units, any
-/// order, `#` comments).
+/// order, `#` comments), with readings at
+/// [`MIN_SPEEDS`](crate::static_curve::MIN_SPEEDS) distinct non-zero speeds
+/// at least.
 pub fn read(path: &Path) -> Result<Vec<Point>, Error> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| Error::Runtime(format!("{}: cannot read: {e}", path.display())))?;
-    if text
+    let rec = if text
         .lines()
         .any(|l| l.trim().to_ascii_lowercase().starts_with("desired vel"))
     {
-        return crate::static_curve::read(path);
+        crate::static_curve::read(path)?
+    } else {
+        crate::data::parse_steady_csv(&text, path)?
+    };
+    let speeds = crate::static_curve::distinct_speeds(rec.iter().map(|p| p.v));
+    if speeds < crate::static_curve::MIN_SPEEDS {
+        return Err(Error::Runtime(format!(
+            "{}: readings at {speeds} distinct non-zero speeds: a steady-state curve needs {} at least",
+            path.display(),
+            crate::static_curve::MIN_SPEEDS
+        )));
     }
-    let rec = crate::data::parse_steady_csv(&text, path)?;
     Ok(rec)
 }
 
 /// True when `path` holds a steady-state record rather than a time series:
-/// the Indy7 layout, or a CSV header with `v` and `u` but no `t`.
+/// the Indy7 layout, or a CSV header with `v` and `u` but neither `t` nor
+/// `x`.
 pub fn is_steady(path: &Path) -> bool {
     let Ok(text) = std::fs::read_to_string(path) else {
         return false;
@@ -793,8 +805,10 @@ pub fn is_steady(path: &Path) -> bool {
     {
         return true;
     }
+    // A header with `x` is a time record, its `t` missing or misnamed
+    // (`time`): read as one, it gets the error that names the column.
     let cols = crate::data::trimmed(&first);
-    cols.contains(&"v") && cols.contains(&"u") && !cols.contains(&"t")
+    cols.contains(&"v") && cols.contains(&"u") && !cols.contains(&"t") && !cols.contains(&"x")
 }
 
 /// The JSON report (the keys of [`crate::diagnose::report_json`] that

@@ -47,6 +47,9 @@ pub fn parse_hidden(list: &str) -> Result<Vec<Effect>, String> {
     }
     let mut out = Vec::new();
     for name in list.split(',').map(str::trim) {
+        if name == "none" {
+            return Err("`none` stands alone: it cannot be listed with effects".into());
+        }
         let effect = name
             .parse::<Effect>()
             .ok()

@@ -12,7 +12,7 @@ use crate::residual::{self, Prepared, Window};
 use crate::synth::{self, SynthSpec};
 use crate::{emit, Error};
 use std::io::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// Loads a model file for the workflow (`z_max = 0` allowed: a model without
 /// presliding). The error names the file (the reference's message starts
@@ -31,14 +31,50 @@ fn write_file(path: &Path, text: &str) -> Result<(), Error> {
         .map_err(|e| Error::Runtime(format!("{}: cannot write: {e}", path.display())))
 }
 
+/// Whether `a` and `b` name one file: the same path once the directory is
+/// resolved (for a file not written yet), or, on Unix, the same device and
+/// inode (a hard or symbolic link to it).
+fn same_file(a: &Path, b: &Path) -> bool {
+    let resolved = |p: &Path| -> Option<PathBuf> {
+        let dir = p
+            .parent()
+            .filter(|d| !d.as_os_str().is_empty())
+            .unwrap_or(Path::new("."));
+        Some(std::fs::canonicalize(dir).ok()?.join(p.file_name()?))
+    };
+    if resolved(a).is_some_and(|x| resolved(b) == Some(x)) {
+        return true;
+    }
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        if let (Ok(x), Ok(y)) = (std::fs::metadata(a), std::fs::metadata(b)) {
+            return x.dev() == y.dev() && x.ino() == y.ino();
+        }
+    }
+    false
+}
+
 /// Refuses to write over an input file.
 fn not_input(out: &Path, inputs: &[&Path]) -> Result<(), Error> {
-    let canon = |p: &Path| std::fs::canonicalize(p).ok();
-    if let Some(o) = canon(out) {
-        if inputs.iter().any(|i| canon(i).as_ref() == Some(&o)) {
+    if inputs.iter().any(|i| same_file(out, i)) {
+        return Err(Error::Usage(format!(
+            "{}: refusing to overwrite an input file",
+            out.display()
+        )));
+    }
+    Ok(())
+}
+
+/// Refuses two outputs of one run that name the same file: the second
+/// would replace the first.
+fn distinct_outputs(outputs: &[&Path]) -> Result<(), Error> {
+    for (k, a) in outputs.iter().enumerate() {
+        if let Some(b) = outputs[k + 1..].iter().find(|b| same_file(a, b)) {
             return Err(Error::Usage(format!(
-                "{}: refusing to overwrite an input file",
-                out.display()
+                "{} and {}: two outputs of one run name the same file",
+                a.display(),
+                b.display()
             )));
         }
     }
@@ -47,6 +83,16 @@ fn not_input(out: &Path, inputs: &[&Path]) -> Result<(), Error> {
 
 fn load_data(path: &Path, window: Option<usize>) -> Result<(Record, Window), Error> {
     let rec = data::load(path)?;
+    // Friction shows where the axis moves; a record whose position never
+    // changes leaves the residual nothing to weigh (its rms 0/0).
+    if !rec.x.windows(2).any(|w| w[0] != w[1]) {
+        return Err(Error::Runtime(format!(
+            "{}: the position never changes ({} samples at x = {}): there is no motion to compare a model with",
+            path.display(),
+            rec.len(),
+            rec.x.first().copied().unwrap_or(0.0)
+        )));
+    }
     let enough = |k: usize| {
         if rec.len() < 20 * k + 20 {
             Err(Error::Runtime(format!(
@@ -75,6 +121,20 @@ fn load_data(path: &Path, window: Option<usize>) -> Result<(Record, Window), Err
     Ok((rec, window))
 }
 
+/// An error naming the first of `figures` [N] that is not finite: a
+/// residual that overflowed (forces or speeds near the `f64` range) or that
+/// weighed nothing is not a figure to print as a result.
+fn finite_figures(path: &Path, figures: &[(&str, f64)]) -> Result<(), Error> {
+    match figures.iter().find(|(_, x)| !x.is_finite()) {
+        Some((what, x)) => Err(Error::Runtime(format!(
+            "{}: the {what} is {x}: the data's forces, positions or times are out of the range \
+             the residual can be formed in",
+            path.display()
+        ))),
+        None => Ok(()),
+    }
+}
+
 /// `synth`: writes the record (and the truth model).
 pub fn synth(args: SynthArgs, out: &mut dyn Write) -> Result<(), Error> {
     let SynthArgs {
@@ -91,6 +151,9 @@ pub fn synth(args: SynthArgs, out: &mut dyn Write) -> Result<(), Error> {
         noise,
         set,
     };
+    if let Some(t) = &truth {
+        distinct_outputs(&[path.as_path(), t.as_path()])?;
+    }
     let (rec, model) = synth::generate(&spec)?;
     let comments = vec![
         format!(
@@ -149,6 +212,8 @@ pub fn fit(args: FitArgs, out: &mut dyn Write) -> Result<(), Error> {
     progress.finish();
     let r = p.residual(&res.model);
     let (train, held) = (p.rms(&r, Some(false)), p.rms(&r, Some(true)));
+    finite_figures(&data, &[("training rms", train), ("held-out rms", held)])?;
+    let flags = fit_flags(&p, &res.model, &rec);
     if let Some(o) = &model_out {
         save_model(o, &res.model)?;
     }
@@ -158,12 +223,17 @@ pub fn fit(args: FitArgs, out: &mut dyn Write) -> Result<(), Error> {
             "rms_train": train,
             "rms_held_out": held,
             "effects": fit::effects_of(&res.model).iter().map(|e| e.name()).collect::<Vec<_>>(),
+            "not_identified": flags,
             "model": diagnose::model_json(&res.model),
         });
         format!("{}\n", serde_json::to_string_pretty(&v).unwrap_or_default())
     } else {
+        let notes: String = flags
+            .iter()
+            .map(|f| format!("not identified here: {f}\n"))
+            .collect();
         format!(
-            "{}: fitted {} parameters ({} passes); rms train {} N, held-out {} N\n{}",
+            "{}: fitted {} parameters ({} passes); rms train {} N, held-out {} N\n{notes}{}",
             data.display(),
             params.len(),
             res.passes,
@@ -173,6 +243,32 @@ pub fn fit(args: FitArgs, out: &mut dyn Write) -> Result<(), Error> {
         )
     };
     emit(out, &text)
+}
+
+/// What of the fitted `m` the record `rec` did not identify: the parts and
+/// effects `diagnose` would drop as degenerate ([`diagnose::degenerate`]),
+/// a mass at its lower limit, a Coulomb level run to nothing. `fit` writes
+/// the model as fitted and says so, rather than pass such values for the
+/// axis's.
+fn fit_flags(p: &Prepared, m: &Model, rec: &Record) -> Vec<String> {
+    let mut flags: Vec<String> = fit::effects_of(m)
+        .into_iter()
+        .filter_map(|e| diagnose::degenerate(p, m, e).map(|why| format!("`{e}`: {why}")))
+        .collect();
+    if fit::mass_at_bound(m) {
+        flags.push(format!(
+            "the mass ran to its lower limit ({:e} kg)",
+            fit::MASS_MIN
+        ));
+    }
+    let largest_force = rec.u.iter().fold(0.0f64, |a, u| a.max(u.abs()));
+    if m.fc < 1e-9 * largest_force {
+        flags.push(format!(
+            "Fc = {:.3e} N, nothing against forces up to {largest_force:.3e} N",
+            m.fc
+        ));
+    }
+    flags
 }
 
 /// `validate`: the metric of a fixed model on the data.
@@ -192,6 +288,7 @@ pub fn validate(args: ValidateArgs, out: &mut dyn Write) -> Result<(), Error> {
     let r = p.residual(&m);
     let all = p.rms(&r, None);
     let floor = p.floor(None);
+    finite_figures(&args.data, &[("rms", all), ("measurement floor", floor)])?;
     let gap = residual::model_error(all, floor);
     let labels = diagnose::regimes(&p, &m);
     let stats = diagnose::regime_stats(&p, &r, &labels);
@@ -261,10 +358,30 @@ pub fn diagnose(args: DiagnoseArgs, out: &mut dyn Write) -> Result<(), Error> {
     if let Some(m) = &model {
         inputs.push(m.as_path());
     }
-    for o in [&json, &svg, &model_out].into_iter().flatten() {
+    let outputs: Vec<&Path> = [&json, &svg, &model_out]
+        .into_iter()
+        .flatten()
+        .map(PathBuf::as_path)
+        .collect();
+    for o in &outputs {
         not_input(o, &inputs)?;
     }
+    distinct_outputs(&outputs)?;
     if crate::steady::is_steady(&data) {
+        // A steady-state record has no dynamics to window, no start model
+        // to refine the same way and no time plot: an option given for them
+        // is refused, not ignored.
+        let given = [
+            (model.is_some(), "--model"),
+            (svg.is_some(), "--svg"),
+            (window.is_some(), "--window"),
+        ];
+        if let Some((_, option)) = given.iter().find(|(on, _)| *on) {
+            return Err(Error::Usage(format!(
+                "{}: a steady-state record: `{option}` applies to time records only",
+                data.display()
+            )));
+        }
         let rec = crate::steady::SteadyRecord::new(crate::steady::read(&data)?);
         let rep = crate::steady::diagnose_steady(&rec, &candidates);
         if let Some(j) = &json {
@@ -283,6 +400,14 @@ pub fn diagnose(args: DiagnoseArgs, out: &mut dyn Write) -> Result<(), Error> {
     let opts = Options { window, candidates };
     let mut progress = Progress::stderr();
     let rep = diagnose::diagnose(&rec, start.as_ref(), &opts, &mut progress);
+    finite_figures(
+        &data,
+        &[
+            ("held-out rms before", rep.raw_before),
+            ("held-out rms after", rep.raw_after),
+            ("measurement floor", rep.floor),
+        ],
+    )?;
     if let Some(j) = &json {
         write_file(j, &diagnose::report_json(&rep))?;
     }

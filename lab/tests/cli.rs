@@ -224,6 +224,12 @@ fn invalid_model_files_name_the_key() {
             format!("{GOOD}[effects.asymmetry]\na = 1.5\n"),
             "asymmetry",
         ),
+        // A valid §5 addition the break-away prediction does not include.
+        (
+            "with_offset.toml",
+            format!("{GOOD}[effects.offset]\nf0 = 0.5\n"),
+            "[effects.offset]",
+        ),
     ];
     for (file, text, needle) in cases {
         let model = temp_model(file, &text);

@@ -242,6 +242,12 @@ fn bad_csv_input() {
         &["magic"],
     );
     fails(&["synth", "--effect", "offset"], &["--out"]);
+    fails(
+        &["synth", "--effect", "none,offset", "--out", "x.csv"],
+        &["`none` stands alone"],
+    );
+    let cr = write("cr_only.csv", &good_csv(400).replace('\n', "\r"));
+    fails(&["fit", &cr], &["cr_only.csv", "carriage return"]);
     fails(&["validate", "a.csv"], &["--model"]);
 }
 
@@ -517,8 +523,8 @@ fn malformed_input_battery() {
         cases.push((format!("cut{cut}.mat"), mat[..cut].to_vec(), vec![".mat"]));
     }
     // The real EMPS file, truncated.
-    let emps = std::fs::read(common::shared_data("emps/DATA_EMPS.mat"));
-    if let Ok(emps) = emps {
+    if let Some(f) = common::shared_or_skip("emps/DATA_EMPS.mat") {
+        let emps = std::fs::read(f).unwrap();
         cases.push((
             "emps_cut.mat".into(),
             emps[..emps.len() / 3].to_vec(),
@@ -534,4 +540,128 @@ fn malformed_input_battery() {
             assert_eq!(&std::fs::read(&path).unwrap(), bytes, "{name} was modified");
         }
     }
+}
+
+/// Input that would give a number that is not one (a record that never
+/// moves, forces near the `f64` range), outputs that would replace each
+/// other or the data, and layouts read as something else: each is refused
+/// with one line naming what is wrong.
+#[test]
+fn refused_rather_than_silently_wrong() {
+    let good = good_csv(400);
+    // The position never changes: the residual weighs nothing.
+    let still: String = good
+        .lines()
+        .map(|l| match l.split_once(',') {
+            Some((x, rest)) if !l.starts_with('#') && x != "x" => format!("5e-3,{rest}\n"),
+            _ => format!("{l}\n"),
+        })
+        .collect();
+    let still = write("still.csv", &still);
+    let model = common::fig5();
+    for args in [
+        vec!["fit", still.as_str()],
+        vec!["validate", still.as_str(), "--model", model.as_str()],
+        vec!["diagnose", still.as_str()],
+    ] {
+        fails(&args, &["still.csv", "never changes"]);
+    }
+    // Forces near the f64 range: the residual overflows.
+    let huge: String = good
+        .lines()
+        .map(|l| {
+            let f: Vec<&str> = l.split(',').collect();
+            match f.as_slice() {
+                [x, t, u, e] if !l.starts_with('#') && *x != "x" => {
+                    format!("{x},{t},{:e},{e}\n", u.parse::<f64>().unwrap() * 1e300)
+                }
+                _ => format!("{l}\n"),
+            }
+        })
+        .collect();
+    let huge = write("huge_u.csv", &huge);
+    for args in [
+        vec!["fit", huge.as_str()],
+        vec!["validate", huge.as_str(), "--model", model.as_str()],
+        vec!["diagnose", huge.as_str()],
+    ] {
+        fails(&args, &["huge_u.csv", "out of the range"]);
+    }
+    // Two outputs of one run naming one file, or an output that is the
+    // data under another name.
+    let data = write("collide.csv", &good);
+    let report = tmp("collide.json").to_string_lossy().into_owned();
+    fails(
+        &["diagnose", &data, "--json", &report, "--model-out", &report],
+        &["collide.json", "same file"],
+    );
+    let out = tmp("synth_same.csv").to_string_lossy().into_owned();
+    fails(
+        &["synth", "--out", &out, "--truth", &out],
+        &["synth_same.csv", "same file"],
+    );
+    #[cfg(unix)]
+    {
+        let link = tmp("collide_link.csv");
+        let _ = std::fs::remove_file(&link);
+        std::fs::hard_link(&data, &link).unwrap();
+        let link = link.to_string_lossy().into_owned();
+        fails(
+            &["fit", &data, "--model-out", &link],
+            &["collide_link.csv", "input file"],
+        );
+        assert_eq!(std::fs::read_to_string(&data).unwrap(), good);
+    }
+    // A time record whose time column is misnamed is not a steady-state
+    // record.
+    let misnamed = write("misnamed.csv", &good.replace("x,t,u,extra", "x,time,u,v"));
+    fails(&["diagnose", &misnamed], &["misnamed.csv", "`t`"]);
+    // Steady-state readings at one speed identify no curve.
+    let one_speed = write(
+        "one_speed.csv",
+        "v,u\n1e-3,5\n1e-3,5\n1e-3,5\n1e-3,5\n1e-3,5\n",
+    );
+    fails(&["diagnose", &one_speed], &["one_speed.csv", "distinct"]);
+    let mut steady = String::from("v,u\n");
+    for k in 1..=12 {
+        let v = f64::from(k) * 1e-3;
+        steady.push_str(&format!("{v},{}\n-{v},-{}\n", 1.0 + v, 1.0 + v));
+    }
+    let steady = write("steady_opts.csv", &steady);
+    let svg = tmp("steady.svg").to_string_lossy().into_owned();
+    fails(
+        &["diagnose", &steady, "--svg", &svg],
+        &["steady_opts.csv", "--svg", "time records only"],
+    );
+    // A reading of the Indy7 layout that is not a number is refused, not
+    // skipped.
+    let indy = write(
+        "indy_bad.csv",
+        "logger preamble\ndesired vel, real vel, tau\n\n0.05, 0.03, 11.3,\nO.10, 0.07, 12.5,\n",
+    );
+    fails(
+        &["static-curve", &indy],
+        &["indy_bad.csv", "line 5", "`O.10`"],
+    );
+}
+
+/// `fit` writes what it fitted, and says what of it the record did not
+/// identify: on a fast sinusoid the mass runs to its lower limit.
+#[test]
+fn fit_says_what_it_did_not_identify() {
+    let mut s = String::from("t,u,x\n");
+    for i in 0..3000 {
+        let t = f64::from(i) * 1e-3;
+        let phase = (2.0 * std::f64::consts::PI * 400.0 * t).sin();
+        s.push_str(&format!("{t},{},{}\n", phase, 1e-3 * phase));
+    }
+    let data = write("fast_sine.csv", &s);
+    let text = ok(&["fit", &data]);
+    assert!(
+        text.contains("not identified here: the mass ran to its lower limit"),
+        "{text}"
+    );
+    let json: serde_json::Value = serde_json::from_str(&ok(&["fit", &data, "--json"])).unwrap();
+    let flags = json["not_identified"].as_array().expect("not_identified");
+    assert!(!flags.is_empty(), "{json}");
 }

@@ -194,10 +194,31 @@ fn write_static_level(rep: &Report, s: &mut String) {
             short(l.written, 4)
         )
     } else {
+        // Not raised: within Fs, or above it where `pin` leaves Fs as
+        // fitted; the line says which.
+        let fs = short(l.fitted, 4);
+        let above = l
+            .held
+            .map(|h| h.is_finite() && h > l.fitted * (1.0 + super::held::MIN_RAISE));
+        let how = match above {
+            [false, false] if l.held.iter().all(|&h| h <= l.fitted) => format!("within Fs = {fs} N"),
+            [false, false] => format!(
+                "within {:.0} % of Fs = {fs} N",
+                100.0 * super::held::MIN_RAISE
+            ),
+            [true, true] if !fit::has_effect(&rep.model, Effect::Stribeck) => format!(
+                "above the fitted Fs = {fs} N in both directions; Fs left as fitted: the model has no Stribeck dip to raise"
+            ),
+            [true, true] => format!(
+                "above the fitted Fs = {fs} N in both directions; Fs left as fitted: no sound refit with Fs at the held level"
+            ),
+            _ => format!(
+                "above the fitted Fs = {fs} N in one direction only; Fs is raised where both directions hold above it"
+            ),
+        };
         writeln!(
             s,
-            "static level: the still axis held {up} (+) and {down} (-), within Fs = {} N",
-            short(l.fitted, 4)
+            "static level: the still axis held {up} (+) and {down} (-), {how}"
         )
     };
 }

@@ -674,10 +674,28 @@ impl Prepared {
     }
 
     /// Position resolution: the smallest position step of the record
-    /// (steps below 1e-12 of the range are rounding, not counts).
+    /// (steps below 1e-12 of the range are rounding, not counts). The range
+    /// leaves out the outer 0.1 % of the positions where that is not
+    /// empty: one gross outlier (a position of 1e300 m) would otherwise
+    /// make every step rounding and itself one count, which the glitch
+    /// filter ([`Prepared::despiked`]) then removes without a word.
     fn resolution_of(x: &[f64]) -> (f64, usize) {
-        let range = x.iter().fold(f64::NEG_INFINITY, |m, &x| m.max(x))
-            - x.iter().fold(f64::INFINITY, |m, &x| m.min(x));
+        let mut sorted = x.to_vec();
+        sorted.sort_by(f64::total_cmp);
+        let n = sorted.len();
+        let span = |lo: usize, hi: usize| {
+            if lo < hi {
+                sorted[hi] - sorted[lo]
+            } else {
+                0.0
+            }
+        };
+        let trimmed = span(n / 1000, n.saturating_sub(1 + n / 1000));
+        let range = if trimmed > 0.0 {
+            trimmed
+        } else {
+            span(0, n.saturating_sub(1))
+        };
         let floor = 1e-12 * range.max(1e-300);
         let q = x
             .windows(2)
