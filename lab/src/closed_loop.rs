@@ -415,6 +415,33 @@ impl Setup {
                 self.velocity_bandwidth
             ));
         }
+        // The library's own ranges (bandwidth times period among them),
+        // checked here where the option can be named.
+        let period = PERIOD as f32;
+        DisturbanceObserver::new(ObserverConfig {
+            mass: MASS as f32,
+            bandwidth: self.observer_bandwidth as f32,
+            period,
+        })
+        .map_err(|e| {
+            format!(
+                "observer bandwidth {:e} rad/s: {e}",
+                self.observer_bandwidth
+            )
+        })?;
+        VelocityEstimator::<i64>::new(
+            VelocityConfig {
+                bandwidth: self.velocity_bandwidth as f32,
+                period,
+            },
+            1e-6,
+        )
+        .map_err(|e| {
+            format!(
+                "velocity bandwidth {:e} rad/s: {e}",
+                self.velocity_bandwidth
+            )
+        })?;
         if !ok(self.z_max_scale, false) {
             return Err(format!("z_max scale {}: must be > 0", self.z_max_scale));
         }

@@ -232,9 +232,20 @@ pub fn read_mat(path: &Path) -> Result<Record, Error> {
     })?;
     let var = |name: &str| -> Result<Vec<f64>, Error> {
         let a = mat.find_by_name(name).ok_or_else(|| {
+            // A file cut short parses up to its last whole variable: the
+            // names found say whether the layout or the file is at fault.
+            let found: Vec<&str> = mat.arrays().iter().map(|a| a.name()).collect();
             err(
                 path,
-                format!("variable `{name}` missing (EMPS layout: t, qm, vir, gtau)"),
+                format!(
+                    "variable `{name}` missing (EMPS layout: t, qm, vir, gtau; found: {}; \
+                     a file cut short keeps only its first variables)",
+                    if found.is_empty() {
+                        "none".to_string()
+                    } else {
+                        found.join(", ")
+                    }
+                ),
             )
         })?;
         match a.data() {
@@ -244,7 +255,7 @@ pub fn read_mat(path: &Path) -> Result<Record, Error> {
             }
             _ => Err(err(
                 path,
-                format!("variable `{name}` is not a real floating-point array"),
+                format!("variable `{name}` is not a real floating-point (double or single) array"),
             )),
         }
     };

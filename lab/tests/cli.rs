@@ -184,6 +184,19 @@ fn usage_errors_exit_2() {
         2,
         &["--masses"],
     );
+    // Beyond the library's range: the setting is named, not only the
+    // library's field.
+    fails(
+        &["closed-loop", "--velocity-bandwidth", "1e300"],
+        2,
+        &["velocity bandwidth", "out of range"],
+    );
+    // A rate so small that the time to break away overflows.
+    fails(
+        &["breakaway", "--model", &m, "--k", "1e-320"],
+        1,
+        &["not finite"],
+    );
 }
 
 #[test]
