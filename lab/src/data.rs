@@ -225,7 +225,8 @@ pub fn read_mat(path: &Path) -> Result<Record, Error> {
         err(
             path,
             format!(
-                "not a readable MATLAB v5 file: {}",
+                "not a readable MATLAB v5 file (the EMPS layout: double or single arrays \
+                 t, qm, vir, gtau; integer, cell and struct arrays are not read): {}",
                 crate::one_line(&format!("{e:?}"))
             ),
         )
