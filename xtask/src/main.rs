@@ -345,6 +345,13 @@ fn test() -> Result<(), String> {
             shared.display()
         );
     }
+    // Likewise the independent Python check of `breakaway --json`.
+    let python = Command::new("python3").arg("--version").output();
+    if python.is_ok_and(|o| o.status.success()) {
+        tests.env("BREAKAWAY_REQUIRE_PYTHON", "1");
+    } else {
+        println!("note: python3 not found: the independent Python check of the break-away skips");
+    }
     run(&mut tests)?;
     // The PWM adapter's tests need its feature.
     run(cargo().args([
