@@ -13,8 +13,8 @@ use std::path::Path;
 
 /// Loads and checks a model file (MODEL.md §7) as the workflow does
 /// ([`crate::workflow::load_model`]). The break-away analysis needs
-/// presliding, so `z_max = 0` (allowed in files) is refused here, and it
-/// covers the model of §2–§4 alone, so is a table of §5's additions: a
+/// presliding, so `z_max = 0` (allowed in files) is refused here; it covers
+/// the model of §2–§4 alone, so a table of §5's additions is refused too: a
 /// prediction that left out the file's `offset` or `drift` would be a
 /// number for another model.
 pub fn load_model(path: &Path) -> Result<Model, Error> {

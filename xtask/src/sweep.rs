@@ -462,10 +462,8 @@ fn seed_of(dir: &Path) -> Option<u64> {
 }
 
 /// Diagnoses (unless `rescore`: the reports are already there) and scores
-/// the records in `dirs` (two at a time), sorted by name.
-/// Every record of `dirs` diagnosed (or, with `rescore`, its report read
-/// again) and scored against its truth; an unreadable truth is an error,
-/// not an effect-free record.
+/// the records in `dirs` (two at a time), sorted by name; an unreadable
+/// truth is an error, not an effect-free record.
 fn score_all(lab: &Path, dirs: &[PathBuf], rescore: bool) -> Result<Vec<Scored>, String> {
     let total = dirs.len();
     let done = AtomicUsize::new(0);
