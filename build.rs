@@ -14,9 +14,11 @@
 //!   which includes the top-level `memory.x`. That map serves the mps2
 //!   boards (4 MiB / 4 MiB); for thumbv6m (QEMU's microbit) this script
 //!   defines the smaller flash and RAM lengths that `memory.x` reads. The
-//!   published package holds neither the examples nor `memory.x`; these
-//!   link arguments apply to examples only, so a library build never needs
-//!   them.
+//!   published package holds neither the examples nor `memory.x`, and
+//!   cargo refuses `rustc-link-arg-examples` from a package without
+//!   example targets (`invalid instruction … does not have a example
+//!   target`, on every `thumb*` build of the package as a dependency), so
+//!   they are emitted only where the `examples` directory is present.
 
 use std::env;
 use std::fmt::Write as _;
@@ -230,7 +232,8 @@ fn main() {
         // ARMv6-M has no DWT cycle counter: `cycles` is left out.
         println!("cargo:rustc-cfg=breakaway_armv6m");
     }
-    if !target.starts_with("thumb") {
+    let manifest = PathBuf::from(env::var_os("CARGO_MANIFEST_DIR").expect("cargo sets it"));
+    if !target.starts_with("thumb") || !manifest.join("examples").is_dir() {
         return;
     }
     if target.starts_with("thumbv6m") {

@@ -325,6 +325,7 @@ fn test() -> Result<(), String> {
             "warnings",
         ]))?;
     }
+    package_check()?;
     // The documentation of every crate (the library's and the tools')
     // builds without a warning.
     run(cargo()
@@ -380,6 +381,55 @@ fn test() -> Result<(), String> {
         println!("fuzz: {line}");
     }
     Ok(())
+}
+
+/// The published package as a user gets it: packed (`cargo package`),
+/// unpacked, and built as the dependency of a `no_std` library for the
+/// Cortex-M0 with the features firmware uses. A build from the repository
+/// does not show what the package lacks: its build script once emitted link
+/// arguments for examples the package does not ship, which cargo refuses
+/// on every `thumb*` target.
+fn package_check() -> Result<(), String> {
+    let dir = target_dir().join("package-check");
+    let _ = std::fs::remove_dir_all(&dir);
+    run(cargo()
+        .args(["package", "-p", "breakaway", "--no-verify", "--allow-dirty"])
+        .env("CARGO_TARGET_DIR", &dir))?;
+    let packed = dir.join("package");
+    let crate_file = std::fs::read_dir(&packed)
+        .map_err(|e| format!("{}: {e}", packed.display()))?
+        .filter_map(Result::ok)
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .find(|n| n.starts_with("breakaway-") && n.ends_with(".crate"))
+        .ok_or_else(|| format!("{}: no breakaway-*.crate", packed.display()))?;
+    run(Command::new("tar")
+        .arg("xzf")
+        .arg(packed.join(&crate_file))
+        .arg("-C")
+        .arg(&dir))?;
+    let unpacked = dir.join(crate_file.trim_end_matches(".crate"));
+    let user = dir.join("user");
+    let write = |path: PathBuf, text: String| {
+        std::fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))
+    };
+    std::fs::create_dir_all(user.join("src")).map_err(|e| format!("{}: {e}", user.display()))?;
+    write(
+        user.join("Cargo.toml"),
+        format!(
+            "[package]\nname = \"package-user\"\nversion = \"0.0.0\"\nedition = \"2021\"\n\n\
+             [dependencies]\nbreakaway = {{ path = {:?}, features = [\"hal\", \"defmt\"] }}\n\n\
+             [workspace]\n",
+            unpacked.display().to_string()
+        ),
+    )?;
+    write(
+        user.join("src/lib.rs"),
+        "#![no_std]\n//! Uses the packaged library as a dependency.\npub use breakaway::{Model, Q16};\n".into(),
+    )?;
+    run(cargo()
+        .args(["build", "--release", "--target", "thumbv6m-none-eabi"])
+        .current_dir(&user)
+        .env("CARGO_TARGET_DIR", dir.join("target")))
 }
 
 #[cfg(test)]
