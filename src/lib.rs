@@ -40,6 +40,8 @@ pub mod predictor;
 pub mod presliding;
 pub mod scalar;
 
+// The settings' error beside the other error types, as users look for it.
+pub use crate::compensation::ConfigError;
 pub use crate::curves::{shape_f32, Curves, CurvesF32, DefaultCurves};
 pub use crate::error::SampleError;
 pub use crate::fixed_point::{CountScale, TableCurves, Q16};

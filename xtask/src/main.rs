@@ -354,6 +354,10 @@ fn test() -> Result<(), String> {
         println!("note: python3 not found: the independent Python check of the break-away skips");
     }
     run(&mut tests)?;
+    // The README's velocity-loop recipe (a doctest of the crate) writes to
+    // a PWM channel: without `hal` it compiles to an empty `main`, so the
+    // doctests run again with the feature.
+    run(cargo().args(["test", "-p", "breakaway", "--features", "hal", "--doc"]))?;
     // The PWM adapter's tests need its feature.
     run(cargo().args([
         "test",
