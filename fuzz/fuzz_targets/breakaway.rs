@@ -3,7 +3,7 @@
 //! with Fc ≤ F_ba − σ·v_b ≤ Fs; invalid input is an error, never a panic.
 #![no_main]
 
-use breakaway::{BreakAwayPredictor, Model, Scalar, Variant, Q16};
+use breakaway::{BreakAwayPredictor, Model, PredictError, Scalar, Variant, Q16};
 use libfuzzer_sys::fuzz_target;
 
 #[path = "common.rs"]
@@ -36,7 +36,11 @@ fuzz_target!(|data: &[u8]| {
                         assert!(dry <= params.fs + slack + 1e-6 * (params.sigma * ba.v_b).abs(), "{ba:?} {params:?}");
                     }
                 }
-                Err(_) => {}
+                // A valid rate is refused only where the self-consistent
+                // root does not converge; anything else compared nothing.
+                Err(PredictError::InvalidRate) => assert!(!(k > 0.0 && k.is_finite()), "valid k = {k} refused"),
+                Err(PredictError::NoConvergence) => assert_eq!(variant, Variant::Consistent, "k = {k}"),
+                Err(e) => panic!("{e:?} at k = {k}, {params:?}"),
             }
             if let (Some(m), Some(p)) = (fixed.as_ref(), fixed_predictor.as_ref()) {
                 let k = Q16::from_bits(k.to_bits() as i32);
