@@ -236,11 +236,11 @@ fn h_continuous_across_turning_points() {
     // 1 nm steps against z_max = 10 µm: g(1e-4) = 1.0e-3, so no step of H
     // may exceed 2·Fs·g(1e-4) = 3.1e-3 N, at reversals included.
     let trace = drive::<0>(&m, &[6000, 2000, 9000, -12000, 0]);
-    let bound = 2.0 * 1.5 * shape_f32(1e-4) + 1e-6;
+    let bound = f64::from(2.0 * 1.5 * shape_f32(1e-4) + 1e-6);
     let worst = trace
         .windows(2)
-        .map(|w| (w[1].1 - w[0].1).abs())
-        .fold(0.0f32, |a, b| if a.is_nan() || b <= a { a } else { b });
+        .map(|w| f64::from((w[1].1 - w[0].1).abs()))
+        .fold(0.0, worse);
     assert!(worst <= bound, "largest step of H {worst} > {bound}");
     // Halving the step halves the largest jump (to first order, with the log).
     assert!(worst > 0.5 * bound);

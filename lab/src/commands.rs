@@ -7,7 +7,7 @@
 //!   the inertia number [`inertia_number`] (MODEL.md §4) and [`pi_number`]
 //!   (MODEL.md §8).
 
-use crate::reference::{self, Effect, Model, Variant};
+use crate::reference::{self, Model, Variant};
 use crate::Error;
 use std::path::Path;
 
@@ -26,9 +26,11 @@ pub fn load_model(path: &Path) -> Result<Model, Error> {
             model.z_max
         )));
     }
+    // The prediction is of the §2–§3 model: the additions of §5 (the
+    // effect tables) are beyond it.
     let beyond: Vec<&str> = crate::fit::effects_of(&model)
         .into_iter()
-        .filter(|&e| !in_breakaway_model(e))
+        .filter(|e| e.has_table())
         .map(|e| e.name())
         .collect();
     if !beyond.is_empty() {
@@ -40,21 +42,6 @@ pub fn load_model(path: &Path) -> Result<Model, Error> {
         )));
     }
     Ok(model)
-}
-
-/// Whether the break-away of MODEL.md §4 includes `e`: the parts of the
-/// §2–§3 model do, the additions of §5 do not.
-fn in_breakaway_model(e: Effect) -> bool {
-    match e {
-        Effect::Viscous | Effect::Stribeck | Effect::Presliding => true,
-        Effect::NonlinearViscous
-        | Effect::Offset
-        | Effect::Asymmetry
-        | Effect::PositionRipple
-        | Effect::DwellStiction
-        | Effect::FrictionalLag
-        | Effect::Drift => false,
-    }
 }
 
 /// The full-dynamics break-away (MODEL.md §4, last paragraph).

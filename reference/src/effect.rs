@@ -52,6 +52,23 @@ impl Effect {
         Effect::Presliding,
     ];
 
+    /// Whether the effect is a table under `[effects]` of a model file
+    /// (MODEL.md §7): the additions of §5. `viscous`, `stribeck` and
+    /// `presliding` are keys of the §2–§3 model itself (`sigma`, `fs`,
+    /// `z_max`).
+    pub fn has_table(self) -> bool {
+        match self {
+            Effect::Viscous | Effect::Stribeck | Effect::Presliding => false,
+            Effect::NonlinearViscous
+            | Effect::Offset
+            | Effect::Asymmetry
+            | Effect::PositionRipple
+            | Effect::DwellStiction
+            | Effect::FrictionalLag
+            | Effect::Drift => true,
+        }
+    }
+
     /// The identifier of MODEL.md §5 (`viscous`, `nonlinear_viscous`, …),
     /// also the table name under `[effects]` in a model file (§7).
     pub fn name(self) -> &'static str {

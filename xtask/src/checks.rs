@@ -146,7 +146,7 @@ fn within(
     bound: f64,
     message: impl FnOnce() -> String,
 ) -> Result<(), String> {
-    *worst = worst.max(error);
+    *worst = support::worse(*worst, error);
     if error.is_nan() || error > bound {
         Err(format!("{}: {}", target.core, message()))
     } else {

@@ -23,11 +23,7 @@ pub fn model_json(m: &Model) -> serde_json::Value {
 pub(super) fn effect_params_all(m: &Model) -> serde_json::Map<String, serde_json::Value> {
     let mut map = serde_json::Map::new();
     for effect in Effect::ALL {
-        let top_level = matches!(
-            effect,
-            Effect::Viscous | Effect::Stribeck | Effect::Presliding
-        );
-        if !top_level && fit::has_effect(m, effect) {
+        if effect.has_table() && fit::has_effect(m, effect) {
             map.insert(effect.name().into(), effect_params(m, effect));
         }
     }

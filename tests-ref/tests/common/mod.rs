@@ -156,7 +156,9 @@ impl Worst {
     /// only then); a NaN is the worst of all and stays.
     pub fn record(&self, error: f64, case: impl FnOnce() -> String) {
         let mut worst = self.0.lock().unwrap();
-        if error > worst.0 || (error.is_nan() && !worst.0.is_nan()) {
+        // Compared by bits: `worse` returns `worst.0` itself unless `error`
+        // is worse, a NaN included.
+        if worse(worst.0, error).to_bits() != worst.0.to_bits() {
             *worst = (error, case());
         }
     }
