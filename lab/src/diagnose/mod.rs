@@ -901,21 +901,20 @@ mod tests {
             .iter()
             .map(|&t| (amplitude * (omega * t).sin() / 1e-6).round() * 1e-6)
             .collect();
-        let u = t.iter().map(|&t| (omega * t).cos()).collect();
-        record(t, u, x, 32)
-    }
-
-    /// The record `t, u, x` prepared with the velocity window ±4 and the
-    /// force window ±`force` samples.
-    fn record(t: Vec<f64>, u: Vec<f64>, x: Vec<f64>, force: usize) -> Prepared {
         let rec = Record {
+            u: t.iter().map(|&t| (omega * t).cos()).collect(),
             t,
-            u,
             x,
             v: None,
             source: "test".into(),
         };
-        Prepared::with_window(&rec, Window { velocity: 4, force })
+        Prepared::with_window(
+            &rec,
+            Window {
+                velocity: 4,
+                force: 32,
+            },
+        )
     }
 
     #[test]
@@ -1589,7 +1588,20 @@ mod tests {
                 }
             }
         }
-        record(t, u, x, 16)
+        let rec = Record {
+            t,
+            u,
+            x,
+            v: None,
+            source: "test".into(),
+        };
+        Prepared::with_window(
+            &rec,
+            Window {
+                velocity: 4,
+                force: 16,
+            },
+        )
     }
 
     #[test]
