@@ -406,54 +406,6 @@ fn base(rec: &SteadyRecord) -> Model {
     )
 }
 
-/// The steady curve of `template`'s structure with `effect` added, fitted
-/// to `points` (all of them, none held out) from a grid of starts: the
-/// template's own dip and the dips of [`dip_starts`] (`Fs = 1.4·Fc`),
-/// each with the effect's starts ([`with_effect`]); the start whose fit
-/// leaves the smallest rms. `None` with fewer than
-/// [`MIN_SPEEDS`](crate::static_curve::MIN_SPEEDS) distinct speeds,
-/// when no fit is finite, or when the best holds its dip at a bound of δ:
-/// a shape that stands in for something else is no start (on the
-/// development record 8500132, `drift` and `nonlinear_viscous` hidden,
-/// a start from a curve that took the drifting levels into the dip gave
-/// `viscous` with δ = 0.3 in place of both).
-///
-/// The template must hold only what a steady state shows (levels, dip,
-/// `viscous`, `nonlinear_viscous`, `offset`, `asymmetry`): a parameter
-/// that `steady_force` ignores would be a free direction of the fit.
-pub(crate) fn fit_curve_with(
-    points: Vec<Point>,
-    template: &Model,
-    effect: Effect,
-) -> Option<Model> {
-    if crate::static_curve::distinct_speeds(points.iter().map(|p| p.v))
-        < crate::static_curve::MIN_SPEEDS
-    {
-        return None;
-    }
-    let rec = SteadyRecord::new(points);
-    let all = vec![false; rec.points.len()];
-    let dips = dip_starts(&rec)
-        .into_iter()
-        .map(|(v_stribeck, delta)| Model {
-            fs: 1.4 * template.fc,
-            v_stribeck,
-            delta,
-            ..template.clone()
-        });
-    std::iter::once(template.clone())
-        .chain(dips)
-        .flat_map(|m| with_effect(&m, effect, &rec))
-        .map(|s| {
-            let m = fit_without(&rec, &s, &all);
-            (rec.squares(&m, &all, false).0, m)
-        })
-        .filter(|(c, _)| c.is_finite())
-        .min_by(|a, b| a.0.total_cmp(&b.0))
-        .map(|(_, m)| m)
-        .filter(|m| degenerate(m, Effect::Stribeck).is_none())
-}
-
 /// One accepted effect of a steady-state diagnosis.
 #[derive(Clone, Debug)]
 pub struct SteadyStep {

@@ -1223,12 +1223,6 @@ pub const SMOKE_CASES: &[(u64, &str, Guard, &str)] = &[
         Guard::Success,
         "a dwell rise that does not saturate within the record's data-side rests (γ fitted at 76 s): the relative spread of the dwell factor, version 10.6",
     ),
-    (
-        9_300_030,
-        "mixed",
-        Guard::Success,
-        "`viscous` on a slow sinusoid whose base lost its dip (Fs = Fc, 34 kg against 8.2 kg): the starts from the record's sliding curve, version 10.7",
-    ),
 ];
 
 #[cfg(test)]
