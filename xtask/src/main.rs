@@ -354,11 +354,10 @@ fn test() -> Result<(), String> {
         println!("note: python3 not found: the independent Python check of the break-away skips");
     }
     run(&mut tests)?;
-    // The README's velocity-loop recipe (a doctest of the crate) writes to
-    // a PWM channel: without `hal` it compiles to an empty `main`, so the
-    // doctests run again with the feature.
+    // The doctests that write to a PWM channel compile to an empty `main`
+    // without `hal`, so the doctests run again with the feature.
     run(cargo().args(["test", "-p", "breakaway", "--features", "hal", "--doc"]))?;
-    // The PWM adapter's tests need its feature.
+    // The PWM adapter's tests and the README's recipe need its feature.
     run(cargo().args([
         "test",
         "-p",
@@ -367,6 +366,8 @@ fn test() -> Result<(), String> {
         "hal",
         "--test",
         "hal",
+        "--test",
+        "readme",
     ]))?;
     // The discrepancy workflow on a small fixed subset of the independent
     // generator's records (the full sweep: `cargo xtask sweep`).

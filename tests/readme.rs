@@ -1,0 +1,136 @@
+//! The README's recipe (*Recipe: friction compensation in a velocity
+//! loop*) as it runs: the README shows its code without hidden lines (GitHub
+//! would show them), so the code runs here, inside a function that gives it
+//! a PWM channel, and `readme_shows_this_recipe` checks that the README's
+//! block is these lines, character for character. The run needs
+//! `--features hal` (`cargo xtask test` passes it); the comparison runs in
+//! every build.
+
+/// This file and the README, as the package ships them.
+const THIS_FILE: &str = include_str!("readme.rs");
+const README: &str = include_str!("../README.md");
+
+/// The lines of this file between the two marker lines, without the
+/// function body's indentation.
+fn recipe_here() -> Vec<String> {
+    let mut lines = THIS_FILE
+        .lines()
+        .skip_while(|l| l.trim() != "// README recipe: begin");
+    lines.next();
+    lines
+        .take_while(|l| l.trim() != "// README recipe: end")
+        .map(|l| l.strip_prefix("    ").unwrap_or(l).to_string())
+        .collect()
+}
+
+/// The lines of the README's first code block after the heading
+/// `## Recipe`.
+fn recipe_in_readme() -> Vec<String> {
+    let mut lines = README
+        .lines()
+        .skip_while(|l| !l.starts_with("## Recipe"))
+        .skip_while(|l| !l.starts_with("```rust"));
+    lines.next();
+    lines
+        .take_while(|l| !l.starts_with("```"))
+        .map(str::to_string)
+        .collect()
+}
+
+#[test]
+fn readme_shows_this_recipe() {
+    let (here, readme) = (recipe_here(), recipe_in_readme());
+    // Both found, and the whole loop in them (not two empty blocks).
+    assert!(here.len() > 40, "markers not found in tests/readme.rs");
+    assert!(readme.len() > 40, "recipe block not found in README.md");
+    for (i, (a, b)) in here.iter().zip(&readme).enumerate() {
+        assert_eq!(
+            a,
+            b,
+            "line {} of the recipe differs (tests/readme.rs, README.md)",
+            i + 1
+        );
+    }
+    assert_eq!(here.len(), readme.len(), "the recipe's length differs");
+}
+
+#[cfg(feature = "hal")]
+#[test]
+#[rustfmt::skip] // the README's layout
+fn recipe_runs() -> Result<(), Box<dyn std::error::Error>> {
+    use embedded_hal::pwm::{ErrorType, SetDutyCycle};
+
+    /// A PWM channel that keeps the last duty written.
+    struct Timer(u16);
+    impl ErrorType for Timer {
+        type Error = core::convert::Infallible;
+    }
+    impl SetDutyCycle for Timer {
+        fn max_duty_cycle(&self) -> u16 {
+            4095
+        }
+        fn set_duty_cycle(&mut self, duty: u16) -> Result<(), Self::Error> {
+            self.0 = duty;
+            Ok(())
+        }
+    }
+    let timer = Timer(0);
+
+    // README recipe: begin
+    use breakaway::compensation::{DisturbanceObserver, Feedforward, FeedforwardConfig, ObserverConfig,
+        VelocityConfig, VelocityEstimator};
+    use breakaway::hal::{DutyMode, PwmForce};
+    use breakaway::{Model, Params};
+
+    const PERIOD: f32 = 1e-3; // control period T [s]
+    const COUNT: f32 = 1e-8;  // encoder resolution [m per count]
+
+    // At start-up. The parameters are checked here, once; the loop cannot fail on them.
+    let model = Model::<f32>::new(Params {
+        fc: 1.0,          // Coulomb level Fc [N]
+        fs: 1.5,          // stiction level Fs [N]
+        v_stribeck: 1e-3, // Stribeck velocity V [m/s]
+        delta: 1.0,       // shape exponent δ
+        sigma: 0.0,       // viscous coefficient σ [N·s/m]
+        z_max: 1e-5,      // presliding distance [m]
+        epsilon: 0.0,     // turning-point deadband [m]
+    })?;
+    // Presliding feedforward on the raw encoder count (i32, may wrap), idle at count 0.
+    let mut feedforward = Feedforward::<i32>::new(FeedforwardConfig::default(), 0, COUNT)?;
+    // Velocity from the raw encoder count: bandwidth ω_e [rad/s], period T [s].
+    let config = VelocityConfig { bandwidth: 3000.0, period: PERIOD };
+    let mut velocity = VelocityEstimator::<i32>::new(config, COUNT)?;
+    // Disturbance observer: nominal mass m_n [kg], bandwidth g [rad/s], period T [s].
+    let config = ObserverConfig { mass: 2.0, bandwidth: 100.0, period: PERIOD };
+    let mut observer = DisturbanceObserver::new(config)?;
+    // The PWM channel as a force output: duty 50 % = 0 N, 0 % / 100 % = ∓5 N.
+    let mut output = PwmForce::new(timer, 5.0, DutyMode::Centered)?;
+
+    let (kp, ki) = (200.0, 4000.0); // velocity PI gains [N·s/m], [N/m]
+    let v_ref = 5e-3;               // velocity set-point [m/s]
+    let mut integral = 0.0f32;
+    let (mut applied, mut u_ff) = (0.0f32, 0.0f32);
+
+    let encoder: [i32; 11] = [0, 0, 40, 160, 400, 800, 1300, 1800, 2300, 2800, 3300];
+    for count in encoder { // once per control period
+        // 1. Velocity from the encoder (differences of the hardware counter, which
+        //    may wrap, through a critically damped α–β filter).
+        let v = velocity.update(count)?;
+        // 2. Observer: the force applied in the period that just ended (all of it,
+        //    as the PWM wrote it), the velocity now, and the "explained" force, the
+        //    feedforward that was part of it. r is the friction the model missed.
+        let r = observer.update(applied, v, u_ff)?;
+        // 3. Feedforward for the coming period: the model's friction at this
+        //    position and velocity (in a position loop: the reference x_ref, v_ref).
+        u_ff = feedforward.update(&model, count, v)?;
+        // 4. Controller output + feedforward + residual r, to the PWM.
+        let error = v_ref - v;
+        integral += error * PERIOD;
+        let written = output.write(kp * error + ki * integral + u_ff + r)?;
+        applied = written.force; // after saturation and rounding to the duty step
+    }
+    assert!(u_ff > 1.0 && u_ff < 1.5); // sliding now: F = S(v), between Fc and Fs
+    assert!(output.inner().0 > 2048); // a forward force on the timer
+    // README recipe: end
+    Ok(())
+}
