@@ -55,26 +55,15 @@ fn readme_shows_this_recipe() {
 }
 
 #[cfg(feature = "hal")]
+#[path = "support/pwm.rs"]
+mod pwm;
+
+#[cfg(feature = "hal")]
 #[test]
 #[rustfmt::skip] // the README's layout
 fn recipe_runs() -> Result<(), Box<dyn std::error::Error>> {
-    use embedded_hal::pwm::{ErrorType, SetDutyCycle};
-
-    /// A PWM channel that keeps the last duty written.
-    struct Timer(u16);
-    impl ErrorType for Timer {
-        type Error = core::convert::Infallible;
-    }
-    impl SetDutyCycle for Timer {
-        fn max_duty_cycle(&self) -> u16 {
-            4095
-        }
-        fn set_duty_cycle(&mut self, duty: u16) -> Result<(), Self::Error> {
-            self.0 = duty;
-            Ok(())
-        }
-    }
-    let timer = Timer(0);
+    use pwm::Timer;
+    let timer = Timer { duty: 0 };
 
     // README recipe: begin
     use breakaway::compensation::{DisturbanceObserver, Feedforward, FeedforwardConfig, ObserverConfig,
@@ -130,7 +119,7 @@ fn recipe_runs() -> Result<(), Box<dyn std::error::Error>> {
         applied = written.force; // after saturation and rounding to the duty step
     }
     assert!(u_ff > 1.0 && u_ff < 1.5); // sliding now: F = S(v), between Fc and Fs
-    assert!(output.inner().0 > 2048); // a forward force on the timer
+    assert!(output.inner().duty > 2048); // a forward force on the timer
     // README recipe: end
     Ok(())
 }

@@ -8,7 +8,6 @@ use breakaway::compensation::{
 };
 use breakaway::hal::{DutyMode, PwmForce};
 use breakaway::{Model, Params, Scalar, Q16};
-use embedded_hal::pwm::{ErrorType, SetDutyCycle};
 
 // The Fig. 5 setting of the tests; every includer also includes
 // `tests/support` as its sibling module `support`.
@@ -17,24 +16,10 @@ const PARAMS: Params = super::support::FIG5;
 const COUNT: f32 = 1e-8;
 const PERIOD: f32 = 1e-3;
 
-/// A timer channel that keeps the last duty (a register write on hardware).
-struct Timer {
-    duty: u16,
-}
-
-impl ErrorType for Timer {
-    type Error = core::convert::Infallible;
-}
-
-impl SetDutyCycle for Timer {
-    fn max_duty_cycle(&self) -> u16 {
-        4095
-    }
-    fn set_duty_cycle(&mut self, duty: u16) -> Result<(), Self::Error> {
-        self.duty = duty;
-        Ok(())
-    }
-}
+// The timer channel (a stand-in that keeps the last duty).
+#[path = "../../tests/support/pwm.rs"]
+mod pwm;
+use pwm::Timer;
 
 /// Encoder count at period `n`: a triangle of ±3 000 counts (±3 z_max) at
 /// 1 to 9 counts per period, so that the loop reverses and slides.
