@@ -1,6 +1,7 @@
-//! The one error of the per-sample path: a sample that cannot be used.
+//! The one error of the per-sample path, a sample that cannot be used, and
+//! the one error that collects all of the library's.
 //!
-//! See [`SampleError`].
+//! See [`SampleError`] and [`Error`].
 
 use core::fmt;
 
@@ -108,3 +109,94 @@ impl defmt::Format for SampleError {
         defmt::write!(f, "{=str}", self.message());
     }
 }
+
+/// Any error of the library, for a function that builds several blocks
+/// and runs them with `?`, as firmware does (no allocator, so no
+/// `Box<dyn Error>`): each of the library's error types converts into it.
+///
+/// The blocks keep their own error types (a setting is checked where it is
+/// given, a sample where it enters); this one only collects them.
+///
+/// ```
+/// use breakaway::compensation::{DisturbanceObserver, ObserverConfig};
+/// use breakaway::{Error, Model, Params, Presliding, SampleError};
+///
+/// // Start-up and one period, as a firmware's `run()` would hold them.
+/// fn run(v: f32) -> Result<f32, Error> {
+///     let model = Model::<f32>::new(Params { fc: 1.0, fs: 1.5, v_stribeck: 1e-3,
+///         delta: 1.0, sigma: 0.0, z_max: 1e-5, epsilon: 0.0 })?; // ParamError
+///     let mut axis = Presliding::<i64>::new(0, 1e-8)?; // ScaleError
+///     let config = ObserverConfig { mass: 2.0, bandwidth: 100.0, period: 1e-3 };
+///     let mut observer = DisturbanceObserver::new(config)?; // ConfigError
+///     let f = axis.update(&model, 100, v)?; // SampleError
+///     Ok(f + observer.update(0.5, v, f)?)
+/// }
+///
+/// assert!(run(1e-4).is_ok());
+/// assert_eq!(run(f32::NAN), Err(Error::Sample(SampleError::Velocity)));
+/// assert_eq!(run(f32::NAN).unwrap_err().to_string(), "velocity sample is not finite");
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub enum Error {
+    /// A model parameter out of its range ([`Model::new`](crate::Model::new)).
+    Param(crate::ParamError),
+    /// A setting of a compensation block out of its range.
+    Config(crate::ConfigError),
+    /// A position scale that is not finite and positive.
+    Scale(crate::ScaleError),
+    /// A break-away prediction that cannot be made.
+    Predict(crate::PredictError),
+    /// A sample that cannot be used (see [`SampleError`]).
+    Sample(SampleError),
+    /// A value outside the range of the number type, from a conversion that
+    /// returned `None` (`Q16::from_f32`, `Model::velocity`,
+    /// `Model::position_scale` and the like), with what it was: for
+    /// `.ok_or(Error::Range("set-point"))?`.
+    Range(&'static str),
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Error::Param(e) => e.fmt(f),
+            Error::Config(e) => e.fmt(f),
+            Error::Scale(e) => e.fmt(f),
+            Error::Predict(e) => e.fmt(f),
+            Error::Sample(e) => e.fmt(f),
+            Error::Range(what) => write!(f, "{what} is outside the range of the number type"),
+        }
+    }
+}
+
+impl core::error::Error for Error {
+    fn source(&self) -> Option<&(dyn core::error::Error + 'static)> {
+        match self {
+            Error::Param(e) => Some(e),
+            Error::Config(e) => Some(e),
+            Error::Scale(e) => Some(e),
+            Error::Predict(e) => Some(e),
+            Error::Sample(e) => Some(e),
+            Error::Range(_) => None,
+        }
+    }
+}
+
+macro_rules! into_error {
+    ($($variant:ident($from:ty)),*) => {
+        $(impl From<$from> for Error {
+            fn from(e: $from) -> Self {
+                Error::$variant(e)
+            }
+        })*
+    };
+}
+
+into_error!(
+    Param(crate::ParamError),
+    Config(crate::ConfigError),
+    Scale(crate::ScaleError),
+    Predict(crate::PredictError),
+    Sample(SampleError)
+);

@@ -21,7 +21,11 @@
 // wrap.
 #![allow(clippy::arithmetic_side_effects)]
 
-use embedded_hal::pwm::{Error as _, SetDutyCycle};
+use embedded_hal::pwm::Error as _;
+/// The output trait [`PwmForce`] writes to, re-exported so that a firmware
+/// can name it (a function generic over its timer) without a dependency on
+/// `embedded-hal` of its own.
+pub use embedded_hal::pwm::SetDutyCycle;
 
 use crate::compensation::{positive, ConfigError, Setting};
 use crate::error::SampleError;

@@ -43,7 +43,7 @@ pub mod scalar;
 // The settings' error beside the other error types, as users look for it.
 pub use crate::compensation::ConfigError;
 pub use crate::curves::{shape_f32, Curves, CurvesF32, DefaultCurves};
-pub use crate::error::SampleError;
+pub use crate::error::{Error, SampleError};
 pub use crate::fixed_point::{CountScale, TableCurves, Q16};
 pub use crate::model::Model;
 pub use crate::params::{Param, ParamError, Params};
