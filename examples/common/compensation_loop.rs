@@ -16,9 +16,10 @@ const PARAMS: Params = super::support::FIG5;
 const COUNT: f32 = 1e-8;
 const PERIOD: f32 = 1e-3;
 
-// The timer channel (a stand-in that keeps the last duty).
+// The timer channel (a stand-in that keeps the last duty; `cargo xtask`
+// takes it from here too).
 #[path = "../../tests/support/pwm.rs"]
-mod pwm;
+pub mod pwm;
 use pwm::Timer;
 
 /// Encoder count at period `n`: a triangle of ±3 000 counts (±3 z_max) at

@@ -210,9 +210,10 @@ pub fn all(only: &[String]) -> Result<Vec<String>, String> {
     // Cortex-M4F only (the closed loop simulates 40 s of plant in 5 µs steps).
     let m4f_only: [(&str, Check); 2] = [("long_run", long_run), ("closed_loop", closed_loop)];
     // Cortex-M0 only: the Q16 compensators.
-    let m0_only: [(&str, Check); 2] = [
+    let m0_only: [(&str, Check); 3] = [
         ("closed_loop_fixed", closed_loop_fixed),
         ("compensation_fixed", compensation_fixed),
+        ("velocity_loop_fixed", velocity_loop_fixed),
     ];
     let names = || {
         per_target
@@ -262,18 +263,21 @@ fn soft_f64_symbols(elf: &std::path::Path) -> Result<Vec<String>, String> {
     use object::{Object, ObjectSymbol};
     let data = std::fs::read(elf).map_err(|e| format!("{}: {e}", elf.display()))?;
     let file = object::File::parse(&*data).map_err(|e| format!("{}: {e}", elf.display()))?;
+    // Their C names, `__adddf3`, `__aeabi_dmul` …: a mangled Rust name can
+    // hold such letters in its hash (`…9footprint4fail17hc1b2df38cc…E`).
     let f64_routine = |name: &str| {
-        [
-            "df3",
-            "df2",
-            "__aeabi_d",
-            "__aeabi_f2d",
-            "__aeabi_l2d",
-            "__aeabi_i2d",
-            "__aeabi_ui2d",
-        ]
-        .iter()
-        .any(|pattern| name.contains(pattern))
+        name.starts_with("__")
+            && [
+                "df3",
+                "df2",
+                "__aeabi_d",
+                "__aeabi_f2d",
+                "__aeabi_l2d",
+                "__aeabi_i2d",
+                "__aeabi_ui2d",
+            ]
+            .iter()
+            .any(|pattern| name.contains(pattern))
     };
     let names: Vec<String> = file
         .symbols()
@@ -299,39 +303,101 @@ mod support;
 #[allow(dead_code)]
 mod compensation_loop;
 
-/// Flash and RAM budget of the whole Q16 compensation loop on the M0 (a
-/// part with 16 KiB of flash and 2 KiB of RAM); over either is an error.
-const LOOP_FLASH_BUDGET: u64 = 16 * 1024;
-const LOOP_RAM_BUDGET: u64 = 2 * 1024;
+/// The stand-in PWM channel of the firmwares.
+use compensation_loop::pwm;
+
+/// The Q16 velocity-loop recipe of the `compensation` documentation, run
+/// here on the host.
+mod recipe {
+    include!("../../src/compensation/velocity_loop_q16.rs");
+}
+
+/// A part's flash and RAM [bytes], for a firmware's footprint.
+struct Part {
+    flash: u64,
+    ram: u64,
+}
 
 /// `compensation_fixed`: the Q16 compensation loop (model built in place,
 /// presliding feedforward, observer, level adaptation, PWM output) as a
-/// Cortex-M0 firmware: flash from the ELF's loaded sections, RAM as .data +
-/// .bss + the painted stack depth; the duty checksum against the same loop
-/// on the host (identical integer arithmetic: equal).
+/// Cortex-M0 firmware, against 16 KiB of flash and 2 KiB of RAM; the duty
+/// checksum against the same loop on the host (identical integer
+/// arithmetic: equal).
 pub fn compensation_fixed(target: Target) -> Result<String, String> {
+    let host = compensation_loop::control().ok_or("compensation_fixed: the host run failed")?;
+    let part = Part {
+        flash: 16 * 1024,
+        ram: 2 * 1024,
+    };
+    footprint(
+        "compensation_fixed",
+        target,
+        &part,
+        &[("duty", u64::from(host))],
+    )
+}
+
+/// `velocity_loop_fixed`: the Q16 velocity-loop recipe of the
+/// `compensation` documentation, as it stands there, as a Cortex-M0
+/// firmware, against a small part (16 KiB of flash, 4 KiB of RAM); its
+/// result and last duty against the same function on the host.
+pub fn velocity_loop_fixed(target: Target) -> Result<String, String> {
+    let encoder = [0, 0, 40, 160, 400, 800, 1300, 1800, 2300, 2800, 3300];
+    let mut timer = pwm::Timer { duty: 0 };
+    let newtons = recipe::velocity_loop(&mut timer, encoder)
+        .map_err(|e| format!("velocity_loop_fixed: the host run failed: {e}"))?;
+    let part = Part {
+        flash: 16 * 1024,
+        ram: 4 * 1024,
+    };
+    let expected = [
+        ("feedforward", u64::from(newtons.to_bits())),
+        ("duty", u64::from(timer.duty)),
+    ];
+    footprint("velocity_loop_fixed", target, &part, &expected)
+}
+
+/// A footprint firmware (`examples/common/footprint.rs`) run under QEMU:
+/// its printed figures against the host's `expected` ones (equal: the same
+/// integer arithmetic), no soft-float `f64` routine linked, flash from the
+/// ELF's loaded sections and RAM as .data + .bss + the painted stack depth
+/// within `part`.
+fn footprint(
+    name: &str,
+    target: Target,
+    part: &Part,
+    expected: &[(&str, u64)],
+) -> Result<String, String> {
     use object::{Object, ObjectSection};
-    let elf = qemu::build("compensation_fixed", target)?;
-    let output = qemu::run_example("compensation_fixed", target)?;
+    let elf = qemu::build(name, target)?;
+    let output = qemu::run_example(name, target)?;
     let number = |tag: &str| -> Result<u64, String> {
         output
             .lines()
-            .find_map(|line| line.strip_prefix(tag)?.trim().parse().ok())
-            .ok_or_else(|| format!("compensation_fixed printed no `{tag}` figure"))
+            .find_map(|line| {
+                line.strip_prefix(tag)?
+                    .strip_prefix(' ')?
+                    .trim()
+                    .parse()
+                    .ok()
+            })
+            .ok_or_else(|| format!("{name} printed no `{tag}` figure"))
     };
-    let (stack, duty) = (number("stack ")?, number("duty ")?);
+    let stack = number("stack")?;
+    for &(tag, host) in expected {
+        let mcu = number(tag)?;
+        if mcu != host {
+            return Err(format!(
+                "{name} on {}: {tag} {mcu}, the host run {host}",
+                target.core
+            ));
+        }
+    }
     let f64_symbols = soft_f64_symbols(&elf)?;
     if !f64_symbols.is_empty() {
         return Err(format!(
-            "compensation_fixed: soft-float f64 routines linked: {}",
+            "{name}: soft-float f64 routines linked: {}",
             f64_symbols.join(", ")
-        ));
-    }
-    let host = compensation_loop::control().ok_or("compensation_fixed: the host run failed")?;
-    if u64::from(host) != duty {
-        return Err(format!(
-            "compensation_fixed on {}: duty checksum {duty}, the host run {host}",
-            target.core
         ));
     }
     let data = std::fs::read(&elf).map_err(|e| format!("{}: {e}", elf.display()))?;
@@ -350,20 +416,24 @@ pub fn compensation_fixed(target: Target) -> Result<String, String> {
     // A stack depth of 0 is a painting that read nothing, not a loop that
     // needs no stack.
     if stack == 0 {
-        return Err("compensation_fixed: the painted stack reads 0 B".into());
+        return Err(format!("{name}: the painted stack reads 0 B"));
     }
     let ram = statics + stack;
-    if flash > LOOP_FLASH_BUDGET || ram > LOOP_RAM_BUDGET {
-        return Err(format!(
-            "compensation_fixed on {}: flash {flash} B (budget {LOOP_FLASH_BUDGET} B), RAM {ram} B \
-             = {statics} B static + {stack} B stack (budget {LOOP_RAM_BUDGET} B)",
-            target.core
-        ));
+    let figures = format!(
+        "flash {flash} B (part: {} B), RAM {ram} B = {statics} B static + {stack} B stack (part: {} B)",
+        part.flash, part.ram
+    );
+    if flash > part.flash || ram > part.ram {
+        return Err(format!("{name} on {}: {figures}: too large", target.core));
     }
+    let matched: Vec<String> = expected
+        .iter()
+        .map(|(tag, v)| format!("{tag} {v}"))
+        .collect();
     Ok(format!(
-        "compensation_fixed on {}: flash {flash} B (within {LOOP_FLASH_BUDGET} B), RAM {ram} B = {statics} B static \
-         + {stack} B stack (within {LOOP_RAM_BUDGET} B); no f64 routine linked; duty checksum {duty} = host",
-        target.core
+        "{name} on {}: {figures}, within; no f64 routine linked; {} = host",
+        target.core,
+        matched.join(", ")
     ))
 }
 
