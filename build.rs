@@ -9,21 +9,14 @@
 //!   w from 2⁻²⁴ to 1 and ln m of the mantissa by segment below (flash),
 //!   and the Chebyshev nodes
 //!   and fit matrix from which each `f32` model builds its Stribeck table.
-//! - Firmware link set-up for the examples of the repository on the
-//!   Cortex-M (`thumb*`) targets: they link with cortex-m-rt's `link.x`,
-//!   which includes the top-level `memory.x`. That map serves the mps2
-//!   boards (4 MiB / 4 MiB); for thumbv6m (QEMU's microbit) this script
-//!   defines the smaller flash and RAM lengths that `memory.x` reads. The
-//!   published package holds neither the examples nor `memory.x`, and
-//!   cargo refuses `rustc-link-arg-examples` from a package without
-//!   example targets (`invalid instruction … does not have a example
-//!   target`, on every `thumb*` build of the package as a dependency), so
-//!   they are emitted only where the `examples` directory is present.
+//! - On thumbv6m (ARMv6-M, no DWT cycle counter) the cfg
+//!   `breakaway_armv6m`, which leaves `cycles` out. The firmware examples'
+//!   link set-up is `firmware/build.rs`.
 
 use std::env;
 use std::fmt::Write as _;
 use std::fs;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// Points per octave of the shape table.
 const SHAPE_K: usize = 64;
@@ -217,11 +210,6 @@ fn curve_tables() -> String {
 
 fn main() {
     println!("cargo:rerun-if-changed=build.rs");
-    // Only where it exists (the repository, not the package): a missing
-    // file would rerun this script on every build.
-    if Path::new("memory.x").exists() {
-        println!("cargo:rerun-if-changed=memory.x");
-    }
     println!("cargo::rustc-check-cfg=cfg(breakaway_armv6m)");
     let out = PathBuf::from(env::var_os("OUT_DIR").expect("cargo sets OUT_DIR"));
     fs::write(out.join("shape_table.rs"), shape_table()).expect("OUT_DIR is writable");
@@ -232,14 +220,4 @@ fn main() {
         // ARMv6-M has no DWT cycle counter: `cycles` is left out.
         println!("cargo:rustc-cfg=breakaway_armv6m");
     }
-    let manifest = PathBuf::from(env::var_os("CARGO_MANIFEST_DIR").expect("cargo sets it"));
-    if !target.starts_with("thumb") || !manifest.join("examples").is_dir() {
-        return;
-    }
-    if target.starts_with("thumbv6m") {
-        // microbit (nRF51822): 256 KiB flash, 16 KiB RAM.
-        println!("cargo:rustc-link-arg-examples=--defsym=__flash_length=0x40000");
-        println!("cargo:rustc-link-arg-examples=--defsym=__ram_length=0x4000");
-    }
-    println!("cargo:rustc-link-arg-examples=-Tlink.x");
 }

@@ -3,7 +3,7 @@
 //!
 //! Used by the library's tests (`mod support;`) and, through `#[path]`, by
 //! the tests against the reference (`tests-ref/tests/common`), the firmware
-//! examples (`examples/common`), `cargo xtask` and the lab's closed-loop
+//! examples (`firmware/examples/common`), `cargo xtask` and the lab's closed-loop
 //! benchmark, so that the MCU, the host test and the host replay draw the
 //! same motion with the same parameters. `core` only: the firmware
 //! examples are `no_std`.

@@ -1,7 +1,7 @@
 //! A PWM channel for tests and examples that have no timer: it keeps the
 //! last duty written (a register write on hardware). Used by the README's
 //! recipe (`tests/readme.rs`) and the Q16 compensation loop
-//! (`examples/common/compensation_loop.rs`, through `#[path]`); needs
+//! (`firmware/examples/common/compensation_loop.rs`, through `#[path]`); needs
 //! `embedded-hal`, so it is not part of `support/mod.rs`, which the crates
 //! without it include.
 

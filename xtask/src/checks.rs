@@ -299,7 +299,7 @@ fn soft_f64_symbols(elf: &std::path::Path) -> Result<Vec<String>, String> {
 mod support;
 
 /// The loop of the `compensation_fixed` firmware, run here on the host.
-#[path = "../../examples/common/compensation_loop.rs"]
+#[path = "../../firmware/examples/common/compensation_loop.rs"]
 #[allow(dead_code)]
 mod compensation_loop;
 
@@ -357,7 +357,7 @@ pub fn velocity_loop_fixed(target: Target) -> Result<String, String> {
     footprint("velocity_loop_fixed", target, &part, &expected)
 }
 
-/// A footprint firmware (`examples/common/footprint.rs`) run under QEMU:
+/// A footprint firmware (`firmware/examples/common/footprint.rs`) run under QEMU:
 /// its printed figures against the host's `expected` ones (equal: the same
 /// integer arithmetic), no soft-float `f64` routine linked, flash from the
 /// ELF's loaded sections and RAM as .data + .bss + the painted stack depth

@@ -311,15 +311,37 @@ fn test() -> Result<(), String> {
     // and the firmware examples.
     for target in qemu::TARGETS {
         let triple = target.triple;
-        run(cargo().args(["build", "--lib", "--release", "--target", triple]))?;
+        run(cargo().args([
+            "build",
+            "-p",
+            "breakaway",
+            "--lib",
+            "--release",
+            "--target",
+            triple,
+        ]))?;
         run(cargo().args([
             "clippy",
+            "-p",
+            "breakaway",
             "--lib",
+            "--target",
+            triple,
+            "--features",
+            "defmt,cortex-m,hal",
+            "--",
+            "-D",
+            "warnings",
+        ]))?;
+        run(cargo().args([
+            "clippy",
+            "-p",
+            "breakaway-firmware",
             "--examples",
             "--target",
             triple,
             "--features",
-            "defmt,firmware,hal",
+            "qemu",
             "--",
             "-D",
             "warnings",

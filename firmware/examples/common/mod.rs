@@ -9,7 +9,7 @@ use cortex_m_semihosting::{debug, hprintln};
 
 // The parameter sets and the stroke motion of the tests (`tests/support`),
 // so that the firmware runs what the host checks.
-#[path = "../../tests/support/mod.rs"]
+#[path = "../../../tests/support/mod.rs"]
 mod support;
 #[allow(unused_imports)]
 pub use support::{Strokes, BREAKAWAY_RATES, CLOSED_LOOP_PLANT, FIG5, LONG_RUN};

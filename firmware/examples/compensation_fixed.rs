@@ -15,26 +15,16 @@
 #![no_main]
 #![allow(unsafe_code)] // stack painting; cortex-m-rt's handlers
 
-use cortex_m_rt::{entry, exception, ExceptionFrame};
+use cortex_m_rt::entry;
 
 #[path = "common/compensation_loop.rs"]
 mod compensation_loop;
 #[path = "common/footprint.rs"]
 mod footprint;
-#[path = "../tests/support/mod.rs"]
+#[path = "../../tests/support/mod.rs"]
 mod support;
 
 #[entry]
 fn main() -> ! {
     footprint::measure(|| Some([(b"duty".as_slice(), compensation_loop::control()?)]))
-}
-
-#[panic_handler]
-fn panic(_: &core::panic::PanicInfo) -> ! {
-    footprint::fail()
-}
-
-#[exception]
-unsafe fn HardFault(_: &ExceptionFrame) -> ! {
-    footprint::fail()
 }

@@ -18,7 +18,7 @@ const PERIOD: f32 = 1e-3;
 
 // The timer channel (a stand-in that keeps the last duty; `cargo xtask`
 // takes it from here too).
-#[path = "../../tests/support/pwm.rs"]
+#[path = "../../../tests/support/pwm.rs"]
 pub mod pwm;
 use pwm::Timer;
 

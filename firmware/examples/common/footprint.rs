@@ -6,6 +6,7 @@
 
 use core::ptr::{addr_of, read_volatile, write_volatile};
 
+use cortex_m_rt::{exception, ExceptionFrame};
 use cortex_m_semihosting::{debug, hio};
 
 const PATTERN: u32 = 0xA5C3_5A3C;
@@ -80,4 +81,14 @@ pub fn fail() -> ! {
     debug::exit(debug::EXIT_FAILURE);
     #[allow(clippy::empty_loop)]
     loop {}
+}
+
+#[panic_handler]
+fn panic(_: &core::panic::PanicInfo) -> ! {
+    fail()
+}
+
+#[exception]
+unsafe fn HardFault(_: &ExceptionFrame) -> ! {
+    fail()
 }

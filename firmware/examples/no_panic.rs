@@ -6,7 +6,8 @@
 //! presliding update (f32 and Q16 numbers, `f32`/`i32`/`i64` positions, with
 //! and without the closing memory), the curves, the break-away predictor in
 //! all variants, and the compensation blocks. If any of them could panic,
-//! `cargo build --release --example no_panic` fails with an undefined
+//! `cargo build --release -p breakaway-firmware --features qemu --example
+//! no_panic --target …` fails with an undefined
 //! symbol `breakaway_panic_path_survived`. `cargo xtask test` builds it for
 //! every Cortex-M target and runs it.
 #![no_std]

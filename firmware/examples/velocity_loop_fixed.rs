@@ -17,15 +17,15 @@
 
 use core::ptr::{addr_of, read_volatile};
 
-use cortex_m_rt::{entry, exception, ExceptionFrame};
+use cortex_m_rt::entry;
 
 #[path = "common/footprint.rs"]
 mod footprint;
-#[path = "../tests/support/pwm.rs"]
+#[path = "../../tests/support/pwm.rs"]
 mod pwm;
 /// The recipe, as the documentation shows it.
 mod recipe {
-    include!("../src/compensation/velocity_loop_q16.rs");
+    include!("../../src/compensation/velocity_loop_q16.rs");
 }
 
 /// The recipe's encoder counts (an axis that starts from rest and slides
@@ -44,14 +44,4 @@ fn main() -> ! {
             (b"duty".as_slice(), u32::from(timer.duty)),
         ])
     })
-}
-
-#[panic_handler]
-fn panic(_: &core::panic::PanicInfo) -> ! {
-    footprint::fail()
-}
-
-#[exception]
-unsafe fn HardFault(_: &ExceptionFrame) -> ! {
-    footprint::fail()
 }
