@@ -170,18 +170,9 @@ impl fmt::Display for Error {
     }
 }
 
-impl core::error::Error for Error {
-    fn source(&self) -> Option<&(dyn core::error::Error + 'static)> {
-        match self {
-            Error::Param(e) => Some(e),
-            Error::Config(e) => Some(e),
-            Error::Scale(e) => Some(e),
-            Error::Predict(e) => Some(e),
-            Error::Sample(e) => Some(e),
-            Error::Range(_) => None,
-        }
-    }
-}
+// Transparent: the message is the inner error's (`Display`), so the inner
+// error is not also given as the source.
+impl core::error::Error for Error {}
 
 macro_rules! into_error {
     ($($variant:ident($from:ty)),*) => {

@@ -11,7 +11,7 @@ const THIS_FILE: &str = include_str!("readme.rs");
 const README: &str = include_str!("../README.md");
 
 /// The lines of this file between the two marker lines, without the
-/// function body's indentation.
+/// module's indentation.
 fn recipe_here() -> Vec<String> {
     let mut lines = THIS_FILE
         .lines()
