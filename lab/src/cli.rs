@@ -31,6 +31,7 @@ pub const WINDOW_RANGE: std::ops::RangeInclusive<u64> = 2..=64;
 #[derive(Clone, Debug, Parser)]
 #[command(
     name = "breakaway-lab",
+    version = crate::diagnose::VERSION_LINE,
     about = "Command-line front of the breakaway f64 reference model",
     after_help = "The discrepancy workflow (diagnose, fit, validate, synth, static-curve): \
                   see `breakaway-lab diagnose --help` and lab/README.md (also the data and \
@@ -104,13 +105,17 @@ pub enum Command {
     /// validate, whatever the start: the figures of two fits of one record
     /// compare like with like.
     ///
-    /// DATA: CSV with columns t, u, x (optional v), or a .mat file in the
-    /// EMPS layout (lab/README.md, "Input files").
+    /// DATA: CSV with columns t, u, x (optional v: the velocity of x in m/s,
+    /// used in place of the differentiated position), or a .mat file in the
+    /// EMPS layout (lab/README.md, "Input files"). A steady-state record is
+    /// refused: diagnose fits its curve.
     Fit(FitArgs),
     /// The metric of a fixed model on other data (all samples, per regime).
     ///
-    /// DATA: CSV with columns t, u, x (optional v), or a .mat file in the
-    /// EMPS layout (lab/README.md, "Input files").
+    /// DATA: CSV with columns t, u, x (optional v: the velocity of x in m/s,
+    /// used in place of the differentiated position), or a .mat file in the
+    /// EMPS layout (lab/README.md, "Input files"). A steady-state record is
+    /// refused: diagnose fits its curve.
     Validate(ValidateArgs),
     /// Synthetic measurements with hidden effects.
     ///
@@ -120,7 +125,8 @@ pub enum Command {
     Synth(SynthArgs),
     /// Stribeck + viscous fit per direction of a steady-state friction file.
     ///
-    /// Indy7 layout: `desired vel, real vel, tau` in deg/s and N·m.
+    /// Indy7 layout only: `desired vel, real vel, tau` in deg/s and N·m (a
+    /// CSV with columns v, u goes to diagnose).
     StaticCurve(StaticCurveArgs),
 }
 

@@ -75,7 +75,6 @@ pub fn load(path: &Path) -> Result<Record, Error> {
         })?;
         parse_csv(&text, path)?
     };
-    check_sampling(&rec, path)?;
     Ok(rec)
 }
 
@@ -141,6 +140,22 @@ pub fn parse_csv(text: &str, path: &Path) -> Result<Record, Error> {
         ));
     };
     let names = trimmed(&header);
+    // A name given twice would leave the column read to the order of the
+    // header: refused, as any column could be the one meant.
+    if let Some((k, dup)) = names
+        .iter()
+        .enumerate()
+        .find(|(k, n)| !n.is_empty() && names[..*k].contains(n))
+    {
+        return Err(err(
+            path,
+            format!(
+                "line {hline}: column `{dup}` named twice in the header (fields {} and {})",
+                names.iter().position(|n| n == dup).map_or(0, |i| i + 1),
+                k + 1
+            ),
+        ));
+    }
     let col = |name: &str| names.iter().position(|n| *n == name);
     let mut idx = [0usize; 3];
     for (slot, name) in idx.iter_mut().zip(["t", "u", "x"]) {
@@ -162,7 +177,9 @@ pub fn parse_csv(text: &str, path: &Path) -> Result<Record, Error> {
         v: vcol.map(|_| Vec::new()),
         source: path.display().to_string(),
     };
+    let mut line_of = Vec::new();
     for (ln, row) in lines {
+        line_of.push(ln);
         let fields = trimmed(&row);
         let get = |name: &str, i: usize| -> Result<f64, Error> {
             let s = fields.get(i).ok_or_else(|| {
@@ -215,6 +232,9 @@ pub fn parse_csv(text: &str, path: &Path) -> Result<Record, Error> {
             ),
         ));
     }
+    check_sampling(&rec, path, |i| {
+        format!("line {}", line_of.get(i).copied().unwrap_or(0))
+    })?;
     Ok(rec)
 }
 
@@ -226,8 +246,8 @@ pub fn read_mat(path: &Path) -> Result<Record, Error> {
             path,
             format!(
                 "not a readable MATLAB v5 file (the EMPS layout: double or single arrays \
-                 t, qm, vir, gtau; integer, cell and struct arrays are not read): {}",
-                crate::one_line(&format!("{e:?}"))
+                 t, qm, vir, gtau; integer, cell and struct arrays are not read){}",
+                mat_detail(&e)
             ),
         )
     })?;
@@ -305,18 +325,30 @@ pub fn read_mat(path: &Path) -> Result<Record, Error> {
             format!("too few samples: {} (need at least {MIN_SAMPLES})", t.len()),
         ));
     }
-    Ok(Record {
+    let rec = Record {
         u: vir.iter().map(|v| g * v).collect(),
         t,
         x: qm,
         v: None,
         source: path.display().to_string(),
-    })
+    };
+    check_sampling(&rec, path, |i| format!("element {} of `t`", i + 1))?;
+    Ok(rec)
+}
+
+/// What the MATLAB parser said, for the message: its I/O error where it
+/// has one; its parse errors name only the parser's internals, so none.
+fn mat_detail(e: &matfile::Error) -> String {
+    match e {
+        matfile::Error::IOError(io) => format!(": {io}"),
+        _ => String::new(),
+    }
 }
 
 /// The differentiator assumes (near-)uniform sampling: every interval
-/// within ±50 % of the median.
-fn check_sampling(rec: &Record, path: &Path) -> Result<(), Error> {
+/// within ±50 % of the median. `at(i)` names where sample `i` is in the
+/// file (a CSV line, an element of a `.mat` array).
+fn check_sampling(rec: &Record, path: &Path, at: impl Fn(usize) -> String) -> Result<(), Error> {
     let dt = rec.dt();
     if let Some(i) = rec
         .t
@@ -326,8 +358,9 @@ fn check_sampling(rec: &Record, path: &Path) -> Result<(), Error> {
         return Err(err(
             path,
             format!(
-                "sample {}: interval {} s is not within 50 % of the median {} s (uniform sampling needed)",
-                i + 2,
+                "{}: interval {} s from the sample before is not within 50 % of the median {} s \
+                 (uniform sampling needed)",
+                at(i + 1),
                 rec.t[i + 1] - rec.t[i],
                 dt
             ),

@@ -117,7 +117,8 @@ pub fn read(path: &Path) -> Result<Vec<Point>, Error> {
     }
     if !header {
         return Err(Error::Runtime(format!(
-            "{}: no header line `desired vel, real vel, tau`",
+            "{}: no header line `desired vel, real vel, tau` (static-curve reads the Indy7 \
+             layout; a steady-state CSV with columns v, u goes to `diagnose`)",
             path.display()
         )));
     }

@@ -824,6 +824,7 @@ pub fn report_json(rep: &SteadyReport) -> String {
         })
         .collect();
     let v = json!({
+        "version": diagnose::WORKFLOW_VERSION,
         "kind": "steady_state",
         "effects_added": rep.steps.iter().map(|s| s.effect.name()).collect::<Vec<_>>(),
         "metric": "model error: sqrt(rms^2 - floor^2), rms the held-out RMS of F_measured - F(v) over the points with index 2, 5, 8 mod 10 (steady-state record: no dynamics; the steps are decided on the 3-fold cross-validated rms over all points, folds by speed rank, which is the rms of each step's and each rejected entry's candidates; floor = the readings' noise: the smallest of three spreads, second differences over neighbouring speeds, sums of mirrored speeds, and the residual of the curve with every steady-state effect over its degrees of freedom); mass and z_max are not identifiable from it",

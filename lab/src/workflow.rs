@@ -55,7 +55,9 @@ fn same_file(a: &Path, b: &Path) -> bool {
     false
 }
 
-/// Refuses to write over an input file.
+/// Refuses, before any work, an output that would write over an input file
+/// or that goes to a directory that does not exist (found only after the
+/// analysis, that would lose its result).
 fn not_input(out: &Path, inputs: &[&Path]) -> Result<(), Error> {
     if inputs.iter().any(|i| same_file(out, i)) {
         return Err(Error::Usage(format!(
@@ -63,7 +65,24 @@ fn not_input(out: &Path, inputs: &[&Path]) -> Result<(), Error> {
             out.display()
         )));
     }
-    Ok(())
+    output_dir(out)
+}
+
+/// The directory an output goes to exists.
+fn output_dir(out: &Path) -> Result<(), Error> {
+    let dir = out
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    if dir.is_dir() {
+        Ok(())
+    } else {
+        Err(Error::Usage(format!(
+            "{}: the directory {} does not exist",
+            out.display(),
+            dir.display()
+        )))
+    }
 }
 
 /// Refuses two outputs of one run that name the same file: the second
@@ -82,6 +101,14 @@ fn distinct_outputs(outputs: &[&Path]) -> Result<(), Error> {
 }
 
 fn load_data(path: &Path, window: Option<usize>) -> Result<(Record, Window), Error> {
+    if crate::steady::is_steady(path) {
+        return Err(Error::Usage(format!(
+            "{}: a steady-state record (one force per speed): `fit` and `validate` take \
+             time records (t, u, x); `diagnose` fits a steady-state curve, `static-curve` \
+             an Indy7-layout file",
+            path.display()
+        )));
+    }
     let rec = data::load(path)?;
     // Friction shows where the axis moves; a record whose position never
     // changes leaves the residual nothing to weigh (its rms 0/0).
@@ -92,6 +119,10 @@ fn load_data(path: &Path, window: Option<usize>) -> Result<(Record, Window), Err
             rec.len(),
             rec.x.first().copied().unwrap_or(0.0)
         )));
+    }
+    energy_in(&rec, path)?;
+    if let Some(v) = &rec.v {
+        measured_velocity(&rec.x, &rec.t, v, path)?;
     }
     let enough = |k: usize| {
         if rec.len() < 20 * k + 20 {
@@ -119,6 +150,66 @@ fn load_data(path: &Path, window: Option<usize>) -> Result<(Record, Window), Err
     };
     enough(window.velocity.max(window.force))?;
     Ok((rec, window))
+}
+
+/// Friction takes energy from the axis, so the actuation force does
+/// positive work over a record, `Σ u·Δx > 0`, but for the kinetic energy it
+/// held at the start. A record whose force does mostly negative work has
+/// `u` or `x` of the wrong sign (a model fitted to it runs `Fc` to zero and
+/// names nothing): refused where the negative work is more than half of
+/// all the work done, `Σ u·Δx < −½·Σ |u·Δx|`.
+fn energy_in(rec: &Record, path: &Path) -> Result<(), Error> {
+    let (mut work, mut total) = (0.0, 0.0);
+    for (w, u) in rec.x.windows(2).zip(&rec.u) {
+        let dw = u * (w[1] - w[0]);
+        work += dw;
+        total += dw.abs();
+    }
+    if work < -0.5 * total {
+        return Err(Error::Runtime(format!(
+            "{}: the force does negative work on the axis (Σ u·Δx = {work:.4e} J of \
+             {total:.4e} J in all): friction cannot, so `u` or `x` has the wrong sign",
+            path.display()
+        )));
+    }
+    Ok(())
+}
+
+/// Least correlation, and largest ratio either way of the scales, of a
+/// record's `v` column against the position's differences
+/// ([`measured_velocity`]).
+const VELOCITY_MIN_CORRELATION: f64 = 0.5;
+const VELOCITY_MAX_SCALE: f64 = 3.0;
+
+/// The `v` column replaces the velocity differentiated from `x`
+/// everywhere; it must be that velocity, measured: over a window of ±5
+/// samples its least-squares scale against `(x_{i+5} − x_{i−5})/(t_{i+5} −
+/// t_{i−5})` within a factor of [`VELOCITY_MAX_SCALE`] of 1, and their
+/// correlation at least [`VELOCITY_MIN_CORRELATION`]. A column of zeros,
+/// one in mm/s or of another axis is refused, not used.
+fn measured_velocity(x: &[f64], t: &[f64], v: &[f64], path: &Path) -> Result<(), Error> {
+    const K: usize = 5;
+    let (mut vv, mut dd, mut vd) = (0.0, 0.0, 0.0);
+    for i in K..x.len().saturating_sub(K) {
+        let d = (x[i + K] - x[i - K]) / (t[i + K] - t[i - K]);
+        vv += v[i] * v[i];
+        dd += d * d;
+        vd += v[i] * d;
+    }
+    let scale = vd / dd;
+    let correlation = vd / (vv * dd).sqrt();
+    let ok = correlation >= VELOCITY_MIN_CORRELATION
+        && (1.0 / VELOCITY_MAX_SCALE..=VELOCITY_MAX_SCALE).contains(&scale);
+    if ok {
+        return Ok(());
+    }
+    Err(Error::Runtime(format!(
+        "{}: column `v` is not the velocity of `x` [m/s]: against the differences of `x` \
+         its scale is {scale:.3} and its correlation {correlation:.3} (needed: within a factor \
+         of {VELOCITY_MAX_SCALE} of 1, and {VELOCITY_MIN_CORRELATION} at least); leave the \
+         column out to have `x` differentiated",
+        path.display()
+    )))
 }
 
 /// An error naming the first of `figures` [N] that is not finite: a
@@ -153,7 +244,9 @@ pub fn synth(args: SynthArgs, out: &mut dyn Write) -> Result<(), Error> {
     };
     if let Some(t) = &truth {
         distinct_outputs(&[path.as_path(), t.as_path()])?;
+        output_dir(t)?;
     }
+    output_dir(&path)?;
     let (rec, model) = synth::generate(&spec)?;
     let comments = vec![
         format!(

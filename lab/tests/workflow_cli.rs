@@ -31,6 +31,16 @@ fn write(name: &str, text: &str) -> String {
     common::write(&format!("wf_{name}"), text)
 }
 
+/// Steady-state readings `|u| = 1 + v` at 12 speeds both ways.
+fn steady_csv() -> String {
+    let mut steady = String::from("v,u\n");
+    for k in 1..=12 {
+        let v = f64::from(k) * 1e-3;
+        steady.push_str(&format!("{v},{}\n-{v},-{}\n", 1.0 + v, 1.0 + v));
+    }
+    steady
+}
+
 fn good_csv(n: usize) -> String {
     let mut s = String::from("# comment\nx,t,u,extra\n");
     for i in 0..n {
@@ -622,11 +632,7 @@ fn refused_rather_than_silently_wrong() {
         "v,u\n1e-3,5\n1e-3,5\n1e-3,5\n1e-3,5\n1e-3,5\n",
     );
     fails(&["diagnose", &one_speed], &["one_speed.csv", "distinct"]);
-    let mut steady = String::from("v,u\n");
-    for k in 1..=12 {
-        let v = f64::from(k) * 1e-3;
-        steady.push_str(&format!("{v},{}\n-{v},-{}\n", 1.0 + v, 1.0 + v));
-    }
+    let steady = steady_csv();
     let steady = write("steady_opts.csv", &steady);
     let svg = tmp("steady.svg").to_string_lossy().into_owned();
     fails(
@@ -645,15 +651,150 @@ fn refused_rather_than_silently_wrong() {
     );
 }
 
+/// Input a user's export can get wrong, found before the analysis and
+/// named (an outside audit's list): a `v` column that is not the velocity
+/// of `x`, a force of the wrong sign, a column named twice, a
+/// steady-state record given to `fit` or `validate`, an output directory
+/// that does not exist, an interval off the sampling (named by its line).
+#[test]
+fn refused_before_the_analysis() {
+    let good = good_csv(400);
+    let rows = |f: &dyn Fn(&[&str]) -> String| -> String {
+        good.lines()
+            .map(|l| {
+                let c: Vec<&str> = l.split(',').collect();
+                if l.starts_with('#') {
+                    format!("{l}\n")
+                } else {
+                    f(&c) + "\n"
+                }
+            })
+            .collect()
+    };
+    // `good_csv`: x, t, u, extra; the extra column becomes `v`.
+    let zero_v = write(
+        "zero_v.csv",
+        &rows(&|c| {
+            if c[0] == "x" {
+                "x,t,u,v".into()
+            } else {
+                format!("{},{},{},0", c[0], c[1], c[2])
+            }
+        }),
+    );
+    fails(
+        &["diagnose", &zero_v],
+        &["zero_v.csv", "column `v`", "velocity of `x`"],
+    );
+    // The sinusoid's own velocity as the column, in mm/s and in m/s.
+    let with_v = |name: &str, scale: f64| {
+        write(
+            name,
+            &rows(&|c| {
+                if c[0] == "x" {
+                    "x,t,u,v".into()
+                } else {
+                    let t: f64 = c[1].parse().unwrap();
+                    let v = scale * 3e-3 * (t * 3.0).cos();
+                    format!("{},{},{},{v}", c[0], c[1], c[2])
+                }
+            }),
+        )
+    };
+    let mm_v = with_v("mm_v.csv", 1e3);
+    fails(
+        &["diagnose", &mm_v],
+        &["mm_v.csv", "column `v`", "scale is 1000"],
+    );
+    let si_v = with_v("si_v.csv", 1.0);
+    ok(&["validate", &si_v, "--model", &common::fig5()]);
+    // The force negated: it does negative work on the axis.
+    let neg_u = write(
+        "neg_u.csv",
+        &rows(&|c| {
+            if c[0] == "x" {
+                c.join(",")
+            } else {
+                let u: f64 = c[2].parse().unwrap();
+                format!("{},{},{},{}", c[0], c[1], -u, c[3])
+            }
+        }),
+    );
+    fails(
+        &["diagnose", &neg_u],
+        &["neg_u.csv", "negative work", "wrong sign"],
+    );
+    let dup = write("dup_col.csv", &good.replace("x,t,u,extra", "x,t,u,x"));
+    fails(
+        &["diagnose", &dup],
+        &["dup_col.csv", "line 2", "`x` named twice"],
+    );
+    let steady = steady_csv();
+    let steady = write("steady_fit.csv", &steady);
+    fails(
+        &["fit", &steady],
+        &["steady_fit.csv", "steady-state record", "diagnose"],
+    );
+    fails(
+        &["validate", &steady, "--model", &common::fig5()],
+        &["steady_fit.csv", "steady-state record"],
+    );
+    let data = write("nodir.csv", &good);
+    let missing = tmp("no_such_dir/report.json")
+        .to_string_lossy()
+        .into_owned();
+    fails(
+        &["diagnose", &data, "--json", &missing],
+        &["report.json", "does not exist"],
+    );
+    // Sample 101 (file line 103: comment and header first) 0.3 ms after
+    // the one before, at a 1 ms median interval.
+    let jitter = rows(&|c| {
+        if c[0] == "x" {
+            c.join(",")
+        } else {
+            let t: f64 = c[1].parse().unwrap();
+            let t = if (t - 0.1).abs() < 1e-9 { 0.0993 } else { t };
+            format!("{},{t},{},{}", c[0], c[2], c[3])
+        }
+    });
+    let jitter = write("jitter.csv", &jitter);
+    fails(
+        &["diagnose", &jitter],
+        &["jitter.csv", "line 103", "uniform sampling"],
+    );
+}
+
+/// The version of the workflow that wrote a report, in the report and on
+/// the command line.
+#[test]
+fn reports_say_their_version() {
+    let out = ok(&["--version"]);
+    let version = breakaway_lab::diagnose::WORKFLOW_VERSION;
+    assert!(
+        out.contains(&format!("discrepancy workflow {version}")),
+        "{out}"
+    );
+    let steady = steady_csv();
+    let steady = write("steady_version.csv", &steady);
+    let report = tmp("steady_version.json").to_string_lossy().into_owned();
+    ok(&["diagnose", &steady, "--json", &report]);
+    let j: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    assert_eq!(j["version"], version);
+}
+
 /// `fit` writes what it fitted, and says what of it the record did not
 /// identify: on a fast sinusoid the mass runs to its lower limit.
 #[test]
 fn fit_says_what_it_did_not_identify() {
+    // The force in phase with the velocity (it does positive work, as on
+    // any axis with friction), none of it with the acceleration.
     let mut s = String::from("t,u,x\n");
     for i in 0..3000 {
         let t = f64::from(i) * 1e-3;
-        let phase = (2.0 * std::f64::consts::PI * 400.0 * t).sin();
-        s.push_str(&format!("{t},{},{}\n", phase, 1e-3 * phase));
+        let angle = 2.0 * std::f64::consts::PI * 400.0 * t;
+        s.push_str(&format!("{t},{},{}\n", angle.cos(), 1e-3 * angle.sin()));
     }
     let data = write("fast_sine.csv", &s);
     let text = ok(&["fit", &data]);

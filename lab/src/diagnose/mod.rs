@@ -61,6 +61,29 @@ pub use selection::*;
 /// Most effects added.
 pub const MAX_ROUNDS: usize = 4;
 
+/// The version of the discrepancy workflow: what `diagnose` names and
+/// fits, as lab/README.md and lab/HISTORY.md number it (each frozen change
+/// is a version; a withdrawn one keeps its number). In every JSON report
+/// (`version`) and in `breakaway-lab --version`, so that a report says which
+/// workflow wrote it.
+pub const WORKFLOW_VERSION: &str = workflow_version!();
+
+/// The one place the workflow's version is written (a literal, for
+/// `concat!`).
+macro_rules! workflow_version {
+    () => {
+        "10.6"
+    };
+}
+use workflow_version;
+
+/// `breakaway-lab --version`: the crate's version and the workflow's.
+pub const VERSION_LINE: &str = concat!(
+    env!("CARGO_PKG_VERSION"),
+    ", discrepancy workflow ",
+    workflow_version!()
+);
+
 /// Fewest moving samples in the held-out blocks together, in force-kernel
 /// widths (`2·K + 1` samples): a held-out figure over less motion than that
 /// compares almost nothing (the residual of one window is one filtered

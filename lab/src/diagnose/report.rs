@@ -109,7 +109,7 @@ pub fn report_json(rep: &Report) -> String {
             j
         })
         .collect();
-    let v = json!({
+    let mut v = json!({
         "effects_added": rep.effects_added().map(Effect::name).collect::<Vec<_>>(),
         "restored": rep.restored().map(Effect::name).collect::<Vec<_>>(),
         "metric": METRIC,
@@ -161,6 +161,8 @@ pub fn report_json(rep: &Report) -> String {
         "dt": rep.dt,
         "resolution": rep.resolution,
     });
+    // Beside the object above, which is at `json!`'s recursion limit.
+    v["version"] = json!(super::WORKFLOW_VERSION);
     let mut s = serde_json::to_string_pretty(&v).unwrap_or_else(|_| "{}".into());
     s.push('\n');
     s
