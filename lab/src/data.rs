@@ -163,8 +163,9 @@ pub fn parse_csv(text: &str, path: &Path) -> Result<Record, Error> {
             err(
                 path,
                 format!(
-                    "line {hline}: header lacks column `{name}` (a record needs t, u, x; found: {})",
-                    names.join(", ")
+                    "line {hline}: header lacks column `{name}` (a record needs t, u, x; found: {}){}",
+                    names.join(", "),
+                    header_hint(&names)
                 ),
             )
         })?;
@@ -236,6 +237,24 @@ pub fn parse_csv(text: &str, path: &Path) -> Result<Record, Error> {
         format!("line {}", line_of.get(i).copied().unwrap_or(0))
     })?;
     Ok(rec)
+}
+
+/// What a header that lacks a column most likely got wrong, for the
+/// message: the separator, quotes, units or the case of the names (the
+/// names are `t`, `u`, `x`, `v`, bare, comma-separated).
+fn header_hint(names: &[&str]) -> &'static str {
+    let joined = names.join(",");
+    if names.len() == 1 && [';', '\t', ' '].iter().any(|c| joined.contains(*c)) {
+        "; the separator must be a comma"
+    } else if joined.contains('"') || joined.contains('\'') {
+        "; names are not quoted"
+    } else if names.iter().any(|n| n.contains('[') || n.contains('(')) {
+        "; names carry no units (t [s], u [N], x [m] are implied)"
+    } else if names.iter().any(|n| ["T", "U", "X", "V"].contains(n)) {
+        "; names are lower case"
+    } else {
+        ""
+    }
 }
 
 /// Reads the EMPS layout of a MATLAB v5 file: `t`, `qm`, `vir`, `gtau`.

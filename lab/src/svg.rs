@@ -217,7 +217,7 @@ fn scatter(s: &[f64], r: &[f64], max: usize) -> Vec<(f64, f64)> {
 pub fn diagnose_svg(rep: &Report) -> String {
     let mut panels = vec![Panel {
         title: format!(
-            "force residual [N] over time [s]: start model (grey, held-out rms {}) and final (blue, {})",
+            "force residual [N] over time [s]: start model (grey, held-out model error {} N) and final (blue, {} N)",
             crate::format::short(rep.rms_before, 3),
             crate::format::short(rep.rms_after, 3)
         ),

@@ -312,7 +312,7 @@ pub fn fit(args: FitArgs, out: &mut dyn Write) -> Result<(), Error> {
     }
     let text = if json {
         let v = serde_json::json!({
-            "metric": diagnose::METRIC,
+            "metric": "weighted RMS [N] of the force residual along the measured motion, on the training and on the held-out blocks (the residual, weights and blocks of diagnose; raw rms, not model error: diagnose and validate give the floor)",
             "rms_train": train,
             "rms_held_out": held,
             "effects": fit::effects_of(&res.model).iter().map(|e| e.name()).collect::<Vec<_>>(),
@@ -473,6 +473,17 @@ pub fn diagnose(args: DiagnoseArgs, out: &mut dyn Write) -> Result<(), Error> {
             return Err(Error::Usage(format!(
                 "{}: a steady-state record: `{option}` applies to time records only",
                 data.display()
+            )));
+        }
+        // Likewise an effect asked for that a curve cannot show.
+        let steady = crate::steady::STEADY_CANDIDATES;
+        if let Some(e) = candidates.iter().find(|e| !steady.contains(e)) {
+            let shown: Vec<&str> = steady.iter().map(|e| e.name()).collect();
+            return Err(Error::Usage(format!(
+                "{}: a steady-state record: `{}` cannot show in it (--candidates from: {})",
+                data.display(),
+                e.name(),
+                shown.join(", ")
             )));
         }
         let rec = crate::steady::SteadyRecord::new(crate::steady::read(&data)?);

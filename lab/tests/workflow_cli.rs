@@ -632,8 +632,7 @@ fn refused_rather_than_silently_wrong() {
         "v,u\n1e-3,5\n1e-3,5\n1e-3,5\n1e-3,5\n1e-3,5\n",
     );
     fails(&["diagnose", &one_speed], &["one_speed.csv", "distinct"]);
-    let steady = steady_csv();
-    let steady = write("steady_opts.csv", &steady);
+    let steady = write("steady_opts.csv", &steady_csv());
     let svg = tmp("steady.svg").to_string_lossy().into_owned();
     fails(
         &["diagnose", &steady, "--svg", &svg],
@@ -729,8 +728,7 @@ fn refused_before_the_analysis() {
         &["diagnose", &dup],
         &["dup_col.csv", "line 2", "`x` named twice"],
     );
-    let steady = steady_csv();
-    let steady = write("steady_fit.csv", &steady);
+    let steady = write("steady_fit.csv", &steady_csv());
     fails(
         &["fit", &steady],
         &["steady_fit.csv", "steady-state record", "diagnose"],
@@ -739,6 +737,24 @@ fn refused_before_the_analysis() {
         &["validate", &steady, "--model", &common::fig5()],
         &["steady_fit.csv", "steady-state record"],
     );
+    fails(
+        &[
+            "diagnose",
+            &steady,
+            "--candidates",
+            "offset,position_ripple",
+        ],
+        &["steady_fit.csv", "`position_ripple` cannot show"],
+    );
+    // A header a spreadsheet would write: the hint names what is wrong.
+    for (name, header, hint) in [
+        ("semicolon.csv", "x;t;u;extra", "separator must be a comma"),
+        ("units.csv", "x [m],t [s],u [N],extra", "no units"),
+        ("upper.csv", "X,T,U,extra", "lower case"),
+    ] {
+        let f = write(name, &good.replace("x,t,u,extra", header));
+        fails(&["diagnose", &f], &[name, "lacks column", hint]);
+    }
     let data = write("nodir.csv", &good);
     let missing = tmp("no_such_dir/report.json")
         .to_string_lossy()
@@ -775,8 +791,7 @@ fn reports_say_their_version() {
         out.contains(&format!("discrepancy workflow {version}")),
         "{out}"
     );
-    let steady = steady_csv();
-    let steady = write("steady_version.csv", &steady);
+    let steady = write("steady_version.csv", &steady_csv());
     let report = tmp("steady_version.json").to_string_lossy().into_owned();
     ok(&["diagnose", &steady, "--json", &report]);
     let j: serde_json::Value =
