@@ -467,6 +467,22 @@ fn write_step(rep: &Report, k: usize, st: &Step, s: &mut String) {
     if !others.is_empty() {
         let _ = writeln!(s, "        next best: {}", others.join(", "));
     }
+    // A closer general form left behind by the nested rule, said where it
+    // shows (the list is in the order the round took, not by rms).
+    let general = st
+        .candidates
+        .iter()
+        .find(|c| c.effect == Effect::NonlinearViscous);
+    if let (Effect::Viscous, Some(g)) = (st.effect, general) {
+        let taken = st.candidates.first().map_or(f64::NAN, |c| c.rms);
+        if g.rms < taken {
+            let _ = writeln!(
+                s,
+                "        (`nonlinear_viscous` fits closer, but the general form is named only where its model error is {} % below that of `viscous`: lab/README.md, *Candidates and selection*)",
+                short(100.0 * super::selection::NESTED_GAP_GAIN, 2)
+            );
+        }
+    }
     let _ = writeln!(s, "        fitted: {}", effect_params(&st.model, st.effect));
 }
 
@@ -518,7 +534,7 @@ fn write_outcome(rep: &Report, s: &mut String) {
     for (n, without, with) in &rep.pruned {
         let _ = writeln!(
             s,
-            "backward check: `{n}` dropped again (held-out rms {} N without it, {} N with it)",
+            "backward check: `{n}`, named in one of the rounds, dropped again (held-out rms {} N without it, {} N with it; the steps above are those kept)",
             short(*without, 4),
             short(*with, 4)
         );
