@@ -854,7 +854,10 @@ pub fn report_text(rep: &SteadyReport, source: &str) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "{source}: steady-state record, {} points (one force per speed; only F(v) effects are visible)",
+        "{source}: steady-state record, {} points (one force per speed; only F(v) effects are visible; \
+         forces in N, or N·m on a rotary axis and in the Indy7 layout, speeds in m/s or rad/s); \
+         mass and z_max are not identified by it (a model written from it holds m = 1 kg, \
+         z_max = 0)",
         rep.n
     );
     for (part, why) in &rep.dropped {

@@ -159,11 +159,13 @@ pub fn regimes(p: &Prepared, m: &Model) -> Vec<String> {
         } else {
             (q2, sliding[sliding.len() - 1])
         };
-        format!(
-            "sliding {}-{} m/s",
-            crate::format::short(a, 2),
-            crate::format::short(b, 2)
-        )
+        // Two significant digits, more where they would print one number
+        // for both ends of a narrow band.
+        let (lo, hi) = (2..=6)
+            .map(|sig| (crate::format::short(a, sig), crate::format::short(b, sig)))
+            .find(|(lo, hi)| lo != hi)
+            .unwrap_or_else(|| (crate::format::short(a, 6), crate::format::short(b, 6)));
+        format!("sliding {lo}-{hi} m/s")
     };
     for i in 0..n {
         fr.update(m, p.t[i], p.x[i], p.v[i]);
