@@ -167,9 +167,11 @@ fn energy_in(rec: &Record, path: &Path) -> Result<(), Error> {
     }
     if work < -0.5 * total {
         return Err(Error::Runtime(format!(
-            "{}: the force does negative work on the axis (Σ u·Δx = {work:.4e} J of \
-             {total:.4e} J in all): friction cannot, so `u` or `x` has the wrong sign",
-            path.display()
+            "{}: the force does negative work on the axis (Σ u·Δx = {} J of {} J in all): \
+             friction cannot, so `u` or `x` has the wrong sign",
+            path.display(),
+            crate::format::short(work, 4),
+            crate::format::short(total, 4)
         )));
     }
     Ok(())
@@ -397,7 +399,7 @@ pub fn validate(args: ValidateArgs, out: &mut dyn Write) -> Result<(), Error> {
         format!("{}\n", serde_json::to_string_pretty(&v).unwrap_or_default())
     } else {
         let mut s = format!(
-            "{} with {}: rms {} N (weighted, all samples); noise and resolution {} N; model error {} N\n",
+            "{} with {}: rms {} N (weighted, all samples); noise and resolution {} N (over all samples: diagnose's floor is over its held-out blocks); model error {} N\n",
             args.data.display(),
             args.model.display(),
             crate::format::short(all, 4),

@@ -391,8 +391,11 @@ pub(super) fn drop_harmful(p: &Prepared, m: &Model, progress: &mut dyn FnMut(&st
     if without_rms >= (1.0 - HARMFUL_GAIN) * with_rms {
         return BaseFix::Kept;
     }
-    let figures =
-        format!("held-out rms {with_rms:.4e} N as first fitted, {without_rms:.4e} N without it");
+    let figures = format!(
+        "held-out rms {} N as first fitted, {} N without it",
+        crate::format::short(with_rms, 5),
+        crate::format::short(without_rms, 5)
+    );
     progress("presliding fitted again");
     match presliding_again(p, &refit) {
         Some((again, rms)) if rms < without_rms => BaseFix::Refitted(
