@@ -57,6 +57,8 @@ fn readme_shows_this_recipe() {
 #[cfg(feature = "hal")]
 #[path = "support/pwm.rs"]
 mod pwm;
+#[cfg(feature = "hal")]
+mod support;
 
 /// The README's lines, as they stand there.
 #[cfg(feature = "hal")]
@@ -131,7 +133,7 @@ mod recipe {
 #[cfg(feature = "hal")]
 #[test]
 fn recipe_runs() -> Result<(), breakaway::Error> {
-    let encoder = [0, 0, 40, 160, 400, 800, 1300, 1800, 2300, 2800, 3300];
+    let encoder = support::RECIPE_COUNTS;
     let mut timer = pwm::Timer { duty: 0 };
     let u_ff = recipe::velocity_loop(&mut timer, encoder)?;
     // Sliding now: F = S(v), between Fc and Fs.

@@ -23,14 +23,15 @@ use cortex_m_rt::entry;
 mod footprint;
 #[path = "../../tests/support/pwm.rs"]
 mod pwm;
+#[path = "../../tests/support/mod.rs"]
+mod support;
 /// The recipe, as the documentation shows it.
 mod recipe {
     include!("../../src/compensation/velocity_loop_q16.rs");
 }
 
-/// The recipe's encoder counts (an axis that starts from rest and slides
-/// at 5 mm/s in 10 nm counts).
-static ENCODER: [i32; 11] = [0, 0, 40, 160, 400, 800, 1300, 1800, 2300, 2800, 3300];
+/// The recipe's encoder counts, in RAM (read through a volatile).
+static ENCODER: [i32; 11] = support::RECIPE_COUNTS;
 
 #[entry]
 fn main() -> ! {

@@ -23,6 +23,12 @@ pub const FIG5: Params = Params {
     epsilon: 0.0,
 };
 
+/// The encoder counts of the velocity-loop recipes (README, `compensation`
+/// docs): an axis that starts from rest and slides at 5 mm/s, one 10 nm
+/// count per ms. The README's test, the `velocity_loop_fixed` firmware and
+/// its host run in `cargo xtask` take them from here.
+pub const RECIPE_COUNTS: [i32; 11] = [0, 0, 40, 160, 400, 800, 1300, 1800, 2300, 2800, 3300];
+
 /// The force rates k [N/s] of the break-away table (`breakaway_table`
 /// firmware, checked row by row by `cargo xtask test`): the paper's grid,
 /// k = 0.01, then 1 … 29 in steps of 2, and 30 N/s.

@@ -342,7 +342,7 @@ pub fn compensation_fixed(target: Target) -> Result<String, String> {
 /// firmware, against a small part (16 KiB of flash, 4 KiB of RAM); its
 /// result and last duty against the same function on the host.
 pub fn velocity_loop_fixed(target: Target) -> Result<String, String> {
-    let encoder = [0, 0, 40, 160, 400, 800, 1300, 1800, 2300, 2800, 3300];
+    let encoder = support::RECIPE_COUNTS;
     let mut timer = pwm::Timer { duty: 0 };
     let newtons = recipe::velocity_loop(&mut timer, encoder)
         .map_err(|e| format!("velocity_loop_fixed: the host run failed: {e}"))?;
