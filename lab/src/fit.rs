@@ -17,7 +17,6 @@ use crate::reference::{
 };
 use crate::residual::{FixedColumn, Prepared};
 use rayon::prelude::*;
-use std::f64::consts::PI;
 
 /// A free parameter of the fit.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -398,43 +397,27 @@ pub fn train_cost(p: &Prepared, m: &Model) -> f64 {
 /// Analytic Jacobian column `∂r/∂θ` for parameters that enter linearly.
 fn analytic_column(p: &Prepared, m: &Model, par: Param, training: &Training) -> Option<Vec<f64>> {
     let negated = |s: &[f64]| -> Vec<f64> { training.weigh(s).into_iter().map(|e| -e).collect() };
-    let col = |s: &[f64]| negated(&p.filter_on(s, false));
-    // At a still sample the friction is the measured force whatever the
-    // model (`Prepared::friction`): the force's derivative is 0 there, as
-    // the model velocity is.
-    let along = |f: &dyn Fn(usize) -> f64| -> Vec<f64> {
-        (0..p.len())
-            .map(|i| if p.still[i] { 0.0 } else { f(i) })
-            .collect()
+    // The force's derivative is 0 at a still sample, where the friction is
+    // the measured force whatever the model (`Prepared::friction`): the
+    // filtered columns are kept by the record ([`Prepared::fixed_column`]).
+    let lam = || {
+        m.effects
+            .position_ripple
+            .map_or(1.0, |r| r.wavelength)
+            .to_bits()
     };
-    match par {
-        Param::Mass => Some(negated(&p.a)),
-        Param::Sigma | Param::F0 => {
-            let which = if par == Param::Sigma {
-                FixedColumn::Velocity
-            } else {
-                FixedColumn::Moving
-            };
-            Some(negated(&p.fixed_column(which)))
-        }
+    let which = match par {
+        Param::Mass => return Some(negated(&p.a)),
+        Param::Sigma => FixedColumn::Velocity,
+        Param::F0 => FixedColumn::Moving,
         Param::SigmaN => {
-            let n = m.effects.nonlinear_viscous.map_or(0.5, |nv| nv.n);
-            let pow = p.speed_pow(n);
-            Some(col(&along(&|i| p.model_velocity(i).signum() * pow[i])))
+            FixedColumn::SignedPower(m.effects.nonlinear_viscous.map_or(0.5, |nv| nv.n).to_bits())
         }
-        Param::RippleC | Param::RippleS => {
-            let lam = m.effects.position_ripple.map_or(1.0, |r| r.wavelength);
-            Some(col(&along(&|i| {
-                let th = 2.0 * PI * p.x[i] / lam;
-                if par == Param::RippleC {
-                    th.sin()
-                } else {
-                    th.cos()
-                }
-            })))
-        }
-        _ => None,
-    }
+        Param::RippleC => FixedColumn::RippleSin(lam()),
+        Param::RippleS => FixedColumn::RippleCos(lam()),
+        _ => return None,
+    };
+    Some(negated(&p.fixed_column(which)))
 }
 
 /// Encoder counts of the shortest [`presliding_cap`] (the longest start of
@@ -590,6 +573,7 @@ pub fn levenberg_marquardt(
 mod tests {
     use super::*;
     use crate::residual::tests::record;
+    use std::f64::consts::PI;
 
     /// A 2 mm sinusoid (1 Hz, 2 s at 1 kHz) read by an encoder of `q` [m].
     fn stroke(q: f64, amplitude: f64) -> Prepared {

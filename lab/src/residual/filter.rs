@@ -125,12 +125,26 @@ impl Prepared {
     /// split is set once, when the record is prepared): a fit asks for the
     /// same column at every iteration.
     pub fn fixed_column(&self, which: FixedColumn) -> Arc<Vec<f64>> {
-        TermCache::get(&self.terms.fixed, which, || {
+        let cache = match which {
+            FixedColumn::Velocity | FixedColumn::Moving => &self.terms.fixed,
+            _ => &self.terms.shaped,
+        };
+        TermCache::get(cache, which, || {
+            let pow = match which {
+                FixedColumn::SignedPower(n) => Some(self.speed_pow(f64::from_bits(n))),
+                _ => None,
+            };
+            let phase = |lam: u64, i: usize| 2.0 * PI * self.x[i] / f64::from_bits(lam);
             let s: Vec<f64> = (0..self.len())
                 .map(|i| match (self.still[i], which) {
                     (true, _) => 0.0,
                     (false, FixedColumn::Velocity) => self.model_velocity(i),
                     (false, FixedColumn::Moving) => 1.0,
+                    (false, FixedColumn::SignedPower(_)) => {
+                        self.model_velocity(i).signum() * pow.as_ref().map_or(0.0, |p| p[i])
+                    }
+                    (false, FixedColumn::RippleSin(lam)) => phase(lam, i).sin(),
+                    (false, FixedColumn::RippleCos(lam)) => phase(lam, i).cos(),
                 })
                 .collect();
             self.filter_on(&s, false)

@@ -401,14 +401,15 @@ const TERM_CACHE_LEN: usize = 8;
 /// model to 13 digits, 9 % less time). With `frictional_lag` the decays of
 /// the lagged velocity, which depends on the record and `τ_L` alone, are
 /// kept by (V, δ, τ_L), computed exactly as the reference does (the same
-/// bits; EMPS 12 % less CPU time with the other changes of that commit).
-/// A clone starts empty.
+/// bits) from the lagged velocities, kept by τ_L. A clone starts empty.
 #[derive(Debug, Default)]
 struct TermCache {
     decay: Shapes<[u64; 2]>,
     /// With `frictional_lag`: the decays of the lagged velocity, by the
     /// bits of (V, δ, τ_L) (the lag filter runs on the record alone).
     lagged_decay: Shapes<[u64; 3]>,
+    /// The lagged velocity, by the bits of τ_L.
+    lagged_velocity: Shapes<u64>,
     speed_pow: Shapes<u64>,
     ln_speed: Mutex<Option<Arc<Vec<f64>>>>,
     /// `sin(2π·x/λ + φ)` along the positions, by the bits of (λ, φ).
@@ -416,16 +417,27 @@ struct TermCache {
     /// Training-side filtered series that no parameter changes (the
     /// Jacobian columns of σ and F0, [`Prepared::fixed_column`]).
     fixed: Shapes<FixedColumn>,
+    /// Training-side filtered series of one shape parameter (the Jacobian
+    /// columns of σ_n and of the ripple's two amplitudes).
+    shaped: Shapes<FixedColumn>,
 }
 
 /// The per-sample series whose training-side filter
-/// [`Prepared::fixed_column`] keeps: they depend on the record alone.
+/// [`Prepared::fixed_column`] keeps: they depend on the record and at
+/// most one shape parameter (given by its bits).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum FixedColumn {
     /// The model velocity (`∂F/∂σ`).
     Velocity,
     /// 1 where the axis moves (`∂F/∂F0`).
     Moving,
+    /// `sgn(v)·|v|^n` (`∂F/∂σ_n` of `nonlinear_viscous`), by the bits of n.
+    SignedPower(u64),
+    /// `sin(2π·x/λ)` and `cos(2π·x/λ)` (`∂F/∂(A·cos φ)` and `∂F/∂(A·sin φ)`
+    /// of `position_ripple`), by the bits of λ [m].
+    RippleSin(u64),
+    /// See [`FixedColumn::RippleSin`].
+    RippleCos(u64),
 }
 
 /// Per-sample series by the bits of their shape parameters, oldest first.
@@ -909,6 +921,69 @@ pub(crate) mod tests {
         let b = Prepared::bursts_of(&creep, q, k, kf);
         assert!((150 + k..250 - k).all(|i| b[i]), "creep not marked");
         assert!(b[150 - kf] && !b[150 - kf - k - 2] && !b[250 + kf + k + 1]);
+    }
+
+    /// The walk's shortcuts (the lagged decays kept by τ_L and the shape,
+    /// no decay without a dip, the friction's own lag filter skipped) give
+    /// the reference `Friction` stepped sample by sample, to the last bit,
+    /// with `frictional_lag` among every other effect (dip or none, dwell or
+    /// none); rests on a 1 µm encoder re-anchor the memory in both.
+    #[test]
+    fn the_walk_is_the_reference_friction_with_lag() {
+        use crate::reference::{Asymmetry, Drift, FrictionalLag, PositionRipple};
+        let rec = record(3000, 1e-3, |t| {
+            ((1e-3 * (3.0 * t).sin()).clamp(-6e-4, 8e-4) / 1e-6).floor() * 1e-6
+        });
+        let p = Prepared::new(&rec, 4);
+        assert!(p.still.iter().filter(|&&s| s).count() > 100, "no rests");
+        let mut m = crate::diagnose::fig5_model();
+        m.effects.frictional_lag = Some(FrictionalLag { tau_l: 0.02 });
+        m.effects.asymmetry = Some(Asymmetry { a: 0.1 });
+        m.effects.drift = Some(Drift { beta: 0.05 });
+        m.effects.position_ripple = Some(PositionRipple {
+            amplitude: 0.1,
+            wavelength: 3e-4,
+            phase: 0.4,
+        });
+        let dwell = DwellStiction {
+            delta_fs: 0.3,
+            gamma: 0.2,
+            v_rest: 1e-4,
+        };
+        let reference = |m: &Model| -> Vec<f64> {
+            let mut fr = Friction::new(m, p.t[0], p.x[0], p.model_velocity(0));
+            (0..p.len())
+                .map(|i| {
+                    let terms = SampleTerms {
+                        rest_speed: Some(p.rest_speed(i)),
+                        ..SampleTerms::default()
+                    };
+                    fr.update_with(m, p.t[i], p.x[i], p.model_velocity(i), terms);
+                    if p.still[i] {
+                        let additive = fr.force() - fr.dry();
+                        fr.anchor(p.x[i], p.u_still[i] - additive);
+                        p.u_still[i]
+                    } else {
+                        fr.force()
+                    }
+                })
+                .collect()
+        };
+        for (dip, with_dwell) in [(true, true), (true, false), (false, true), (false, false)] {
+            let mut m = m.clone();
+            if !dip {
+                m.fs = m.fc;
+            }
+            m.effects.dwell_stiction = with_dwell.then_some(dwell);
+            let (got, want) = (p.friction(&m), reference(&m));
+            for (i, (g, w)) in got.iter().zip(&want).enumerate() {
+                assert_eq!(
+                    g.to_bits(),
+                    w.to_bits(),
+                    "dip {dip}, dwell {with_dwell}, sample {i}"
+                );
+            }
+        }
     }
 
     /// `filter_all` is `filter_at` at every valid sample, to the last bit.

@@ -121,28 +121,48 @@ impl Prepared {
     /// of the lab over a record goes through here, so they all see the same
     /// memory.
     pub fn walk(&self, m: &Model, mut f: impl FnMut(usize, &Friction)) {
-        let along = |g: &dyn Fn(f64) -> f64| -> Vec<f64> {
-            let ln_speed = self.ln_speed();
-            ln_speed.iter().map(|&l| g(l)).collect()
-        };
         let (v_s, delta) = (m.v_stribeck, m.delta);
+        // exp(−(|v|/V)^δ) from ln|v|, as `exp(δ·(ln|v| − ln V))`.
+        let decay_along = |ln_speed: &[f64]| -> Vec<f64> {
+            let ln_v = v_s.ln();
+            ln_speed
+                .iter()
+                .map(|&l| decay_of_power((delta * (l - ln_v)).exp()))
+                .collect()
+        };
+        // The decay multiplies Fs − Fc (plus the dwell excess): without a
+        // dip and without `dwell_stiction` it is never read.
+        let needs_decay = m.fs != m.fc || m.effects.dwell_stiction.is_some();
         let decay = match m.effects.frictional_lag {
-            None => TermCache::get(&self.terms.decay, [v_s.to_bits(), delta.to_bits()], || {
-                let ln_v = v_s.ln();
-                along(&|l| decay_of_power((delta * (l - ln_v)).exp()))
-            }),
-            Some(lag) => {
+            _ if !needs_decay => None,
+            None => Some(TermCache::get(
+                &self.terms.decay,
+                [v_s.to_bits(), delta.to_bits()],
+                || decay_along(&self.ln_speed()),
+            )),
+            Some(lag) => Some({
                 let key = [v_s.to_bits(), delta.to_bits(), lag.tau_l.to_bits()];
                 TermCache::get(&self.terms.lagged_decay, key, || {
-                    let mut filter = LagFilter::new(self.t[0], self.model_velocity(0));
-                    (0..self.len())
-                        .map(|i| {
-                            let v = self.model_velocity(i);
-                            stribeck_decay(v_s, delta, filter.update(Some(lag.tau_l), self.t[i], v))
-                        })
+                    let lagged = self.lagged_velocity(lag.tau_l);
+                    lagged
+                        .iter()
+                        .map(|&v_l| stribeck_decay(v_s, delta, v_l))
                         .collect()
                 })
-            }
+            }),
+        };
+        // The lagged velocity enters the force only through the decay, which
+        // is given (or not read): the walk's own lag filter is skipped (its
+        // exp and expm1 per sample, where the sampling period varies in its
+        // last bits, were a tenth of EMPS's time).
+        let lag_free;
+        let m = if m.effects.frictional_lag.is_some() {
+            let mut free = m.clone();
+            free.effects.frictional_lag = None;
+            lag_free = free;
+            &lag_free
+        } else {
+            m
         };
         let speed_pow = m.effects.nonlinear_viscous.map(|nv| self.speed_pow(nv.n));
         let ripple_sin = m.effects.position_ripple.map(|r| {
@@ -157,7 +177,7 @@ impl Prepared {
         let mut fr = Friction::new(m, self.t[0], self.x[0], self.model_velocity(0));
         for i in 0..self.len() {
             let terms = SampleTerms {
-                decay: Some(decay[i]),
+                decay: decay.as_ref().map(|d| d[i]),
                 speed_pow: speed_pow.as_ref().map(|p| p[i]),
                 rest_speed: Some(self.rest_speed[i]),
                 ripple_sin: ripple_sin.as_ref().map(|r| r[i]),
@@ -198,6 +218,19 @@ impl Prepared {
                     .collect(),
             )
         }))
+    }
+
+    /// The lagged velocity `v_l` [m/s] of `frictional_lag` with time
+    /// constant `tau_l` [s] (a [`LagFilter`] over
+    /// [`Prepared::model_velocity`]), cached by `tau_l`: the fit of V and δ
+    /// walks many decays of one lag.
+    fn lagged_velocity(&self, tau_l: f64) -> Arc<Vec<f64>> {
+        TermCache::get(&self.terms.lagged_velocity, tau_l.to_bits(), || {
+            let mut filter = LagFilter::new(self.t[0], self.model_velocity(0));
+            (0..self.len())
+                .map(|i| filter.update(Some(tau_l), self.t[i], self.model_velocity(i)))
+                .collect()
+        })
     }
 
     /// Per-sample `|∂H/∂x|` [N/m] of the presliding branch (0 in gross
