@@ -254,7 +254,7 @@ pub struct ClosedLoopArgs {
     #[arg(long)]
     pub json: bool,
     /// Also write the tracking error around the reversal at t = 6 s as an
-    /// SVG plot.
+    /// SVG plot (`-`: to standard output, instead of the table).
     #[arg(long, value_name = "FILE")]
     pub svg: Option<PathBuf>,
     /// Standard deviation [N] of Gaussian noise on the force the plant
@@ -347,7 +347,8 @@ pub struct DiagnoseArgs {
     /// Start model (TOML, lab/README.md, "Input files").
     #[arg(long, value_name = "FILE")]
     pub model: Option<PathBuf>,
-    /// Write the JSON report to FILE.
+    /// Write the JSON report to FILE (`-`: to standard output, instead of
+    /// the text report; so for each output below).
     #[arg(long, value_name = "FILE")]
     pub json: Option<PathBuf>,
     /// Residual before/after over time and against each localising signal.
@@ -376,7 +377,8 @@ pub struct FitArgs {
     /// from the data).
     #[arg(long, value_name = "FILE")]
     pub model: Option<PathBuf>,
-    /// Write the fitted model (TOML).
+    /// Write the fitted model (TOML; `-`: to standard output, instead of
+    /// the report).
     #[arg(long, value_name = "FILE")]
     pub model_out: Option<PathBuf>,
     /// JSON on stdout.
@@ -441,10 +443,10 @@ pub struct SynthArgs {
         allow_negative_numbers = true
     )]
     pub set: usize,
-    /// The CSV to write.
+    /// The CSV to write (`-`: standard output, instead of the message).
     #[arg(long, value_name = "FILE")]
     pub out: PathBuf,
-    /// Also write the truth model (TOML).
+    /// Also write the truth model (TOML; `-` as for the CSV).
     #[arg(long, value_name = "FILE")]
     pub truth: Option<PathBuf>,
 }
@@ -459,7 +461,7 @@ pub struct StaticCurveArgs {
     #[arg(long)]
     pub json: bool,
     /// Also write the points and the fitted curves, torque against velocity,
-    /// as an SVG plot.
+    /// as an SVG plot (`-`: to standard output, instead of the report).
     #[arg(long, value_name = "FILE")]
     pub svg: Option<PathBuf>,
 }

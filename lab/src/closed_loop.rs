@@ -1023,10 +1023,21 @@ pub fn command(
         ..Setup::encoder(0.0)
     };
     setup.check().map_err(Error::Usage)?;
+    let to_stdout = args.svg.as_deref().is_some_and(crate::workflow::is_stdout);
+    if to_stdout && args.json {
+        return Err(Error::Usage(
+            "`--svg -` and `--json` both print to standard output: give one".into(),
+        ));
+    }
+    if let Some(path) = &args.svg {
+        crate::workflow::not_input(path, &[])?;
+    }
     let rows = benchmark(&setup).map_err(Error::Runtime)?;
     if let Some(path) = &args.svg {
-        std::fs::write(path, to_svg(&rows))
-            .map_err(|e| Error::Runtime(format!("writing {}: {e}", path.display())))?;
+        crate::workflow::write_file(path, &to_svg(&rows), out)?;
+        if to_stdout {
+            return Ok(());
+        }
     }
     let text = if args.json {
         to_json(&rows)

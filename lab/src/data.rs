@@ -391,6 +391,12 @@ fn check_sampling(rec: &Record, path: &Path, at: impl Fn(usize) -> String) -> Re
 /// Writes a record as CSV (MODEL.md §6) with full-precision numbers,
 /// preceded by `#` comment lines.
 pub fn write_csv(path: &Path, rec: &Record, comments: &[String]) -> Result<(), Error> {
+    std::fs::write(path, csv_text(rec, comments))
+        .map_err(|e| err(path, format!("cannot write: {e}")))
+}
+
+/// The text [`write_csv`] writes.
+pub fn csv_text(rec: &Record, comments: &[String]) -> String {
     use std::fmt::Write as _;
     let mut s = String::new();
     for c in comments {
@@ -400,7 +406,7 @@ pub fn write_csv(path: &Path, rec: &Record, comments: &[String]) -> Result<(), E
     for i in 0..rec.len() {
         let _ = writeln!(s, "{:?},{:?},{:?}", rec.t[i], rec.u[i], rec.x[i]);
     }
-    std::fs::write(path, s).map_err(|e| err(path, format!("cannot write: {e}")))
+    s
 }
 
 /// Parses a steady-state record (MODEL.md §6): comma-separated, one header

@@ -119,6 +119,47 @@ fn folds(points: &[Point]) -> Vec<usize> {
     fold
 }
 
+/// The units of a steady-state file's numbers (MODEL.md §1: a rotary axis
+/// reads rad, rad/s, N·m and kg·m² for m, m/s, N and kg).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Units {
+    /// The Indy7 layout: a rotary joint, read in deg/s and N·m, the speeds
+    /// converted to rad/s.
+    Rotary,
+    /// A `v, u` CSV: SI units of a linear (m/s, N) or a rotary axis (rad/s,
+    /// N·m); the file does not say which.
+    Si,
+}
+
+impl Units {
+    /// The units in words, for the text report.
+    pub fn text(self) -> &'static str {
+        match self {
+            Units::Rotary => "forces in N·m, speeds in rad/s (a rotary joint, Indy7 layout)",
+            Units::Si => "forces in N, speeds in m/s (N·m and rad/s if the axis is rotary)",
+        }
+    }
+
+    /// The units for the JSON report.
+    pub fn json(self) -> &'static str {
+        match self {
+            Units::Rotary => "N*m, rad/s",
+            Units::Si => "N, m/s (N*m, rad/s on a rotary axis)",
+        }
+    }
+
+    /// A comment line for a model file written from the record, whose key
+    /// comments name the linear units (MODEL.md §7).
+    pub fn model_header(self) -> Option<&'static str> {
+        match self {
+            Units::Rotary => Some(
+                "# rotary joint (Indy7 layout): read rad, rad/s, N·m and kg·m² for the m, m/s, N and kg below\n",
+            ),
+            Units::Si => None,
+        }
+    }
+}
+
 /// A steady-state record prepared for fitting.
 #[derive(Clone, Debug)]
 pub struct SteadyRecord {
@@ -128,11 +169,18 @@ pub struct SteadyRecord {
     pub held_out: Vec<bool>,
     /// Fold of each point for [`SteadyRecord::cv_rms`] (see `folds`).
     fold: Vec<usize>,
+    /// What the numbers are in (reported, not used by the fit).
+    pub units: Units,
 }
 
 impl SteadyRecord {
-    /// Splits `points` (file order).
+    /// Splits `points` (file order), in SI units ([`Units::Si`]).
     pub fn new(points: Vec<Point>) -> SteadyRecord {
+        SteadyRecord::with_units(points, Units::Si)
+    }
+
+    /// Splits `points` (file order), in `units`.
+    pub fn with_units(points: Vec<Point>, units: Units) -> SteadyRecord {
         let held_out = (0..points.len())
             .map(|i| matches!(i % 10, 2 | 5 | 8))
             .collect();
@@ -141,6 +189,7 @@ impl SteadyRecord {
             points,
             held_out,
             fold,
+            units,
         }
     }
 
@@ -447,6 +496,8 @@ pub struct SteadyReport {
     pub model: Model,
     /// Noise of one reading [N] (N·m) ([`SteadyRecord::noise`]).
     pub noise: f64,
+    /// The record's units.
+    pub units: Units,
 }
 
 impl SteadyReport {
@@ -759,6 +810,7 @@ pub fn diagnose_steady(rec: &SteadyRecord, candidates: &[Effect]) -> SteadyRepor
         dropped,
         model: sel.model,
         noise,
+        units: rec.units,
     }
 }
 
@@ -767,16 +819,16 @@ pub fn diagnose_steady(rec: &SteadyRecord, candidates: &[Effect]) -> SteadyRepor
 /// order, `#` comments), with readings at
 /// [`MIN_SPEEDS`](crate::static_curve::MIN_SPEEDS) distinct non-zero speeds
 /// at least.
-pub fn read(path: &Path) -> Result<Vec<Point>, Error> {
+pub fn read(path: &Path) -> Result<SteadyRecord, Error> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| Error::Runtime(format!("{}: cannot read: {e}", path.display())))?;
-    let rec = if text
+    let (rec, units) = if text
         .lines()
         .any(|l| l.trim().to_ascii_lowercase().starts_with("desired vel"))
     {
-        crate::static_curve::read(path)?
+        (crate::static_curve::read(path)?, Units::Rotary)
     } else {
-        crate::data::parse_steady_csv(&text, path)?
+        (crate::data::parse_steady_csv(&text, path)?, Units::Si)
     };
     let speeds = crate::static_curve::distinct_speeds(rec.iter().map(|p| p.v));
     if speeds < crate::static_curve::MIN_SPEEDS {
@@ -786,7 +838,7 @@ pub fn read(path: &Path) -> Result<Vec<Point>, Error> {
             crate::static_curve::MIN_SPEEDS
         )));
     }
-    Ok(rec)
+    Ok(SteadyRecord::with_units(rec, units))
 }
 
 /// True when `path` holds a steady-state record rather than a time series:
@@ -826,6 +878,7 @@ pub fn report_json(rep: &SteadyReport) -> String {
     let v = json!({
         "version": diagnose::WORKFLOW_VERSION,
         "kind": "steady_state",
+        "units": rep.units.json(),
         "effects_added": rep.steps.iter().map(|s| s.effect.name()).collect::<Vec<_>>(),
         "metric": "model error: sqrt(rms^2 - floor^2), rms the held-out RMS of F_measured - F(v) over the points with index 2, 5, 8 mod 10 (steady-state record: no dynamics; the steps are decided on the 3-fold cross-validated rms over all points, folds by speed rank, which is the rms of each step's and each rejected entry's candidates; floor = the readings' noise: the smallest of three spreads, second differences over neighbouring speeds, sums of mirrored speeds, and the residual of the curve with every steady-state effect over its degrees of freedom); mass and z_max are not identifiable from it",
         "rms_before": rep.gap(rep.rms_before),
@@ -855,10 +908,10 @@ pub fn report_text(rep: &SteadyReport, source: &str) -> String {
     let _ = writeln!(
         s,
         "{source}: steady-state record, {} points (one force per speed; only F(v) effects are visible; \
-         forces in N, or N·m on a rotary axis and in the Indy7 layout, speeds in m/s or rad/s); \
-         mass and z_max are not identified by it (a model written from it holds m = 1 kg, \
+         {}); mass and z_max are not identified by it (a model written from it holds m = 1 kg, \
          z_max = 0)",
-        rep.n
+        rep.n,
+        rep.units.text()
     );
     for (part, why) in &rep.dropped {
         let _ = writeln!(s, "not identifiable here, dropped: `{part}` ({why})");

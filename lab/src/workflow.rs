@@ -21,12 +21,46 @@ pub fn load_model(path: &Path) -> Result<Model, Error> {
     Model::load(path).map_err(|e| Error::Runtime(e.to_string()))
 }
 
-fn save_model(path: &Path, m: &Model) -> Result<(), Error> {
-    m.save(path)
-        .map_err(|e| Error::Runtime(format!("{}: {e}", path.display())))
+/// Whether the output path is `-`: standard output, where the output is
+/// written in place of the command's text report (`diagnose DATA --json -
+/// | jq …`).
+pub(crate) fn is_stdout(path: &Path) -> bool {
+    path.as_os_str() == "-"
 }
 
-fn write_file(path: &Path, text: &str) -> Result<(), Error> {
+/// Whether one of a run's outputs is `-` ([`is_stdout`]); two are refused
+/// (standard output would hold both, one after the other).
+fn stdout_output(outputs: &[&Path]) -> Result<bool, Error> {
+    match outputs.iter().filter(|o| is_stdout(o)).count() {
+        0 => Ok(false),
+        1 => Ok(true),
+        _ => Err(Error::Usage(
+            "`-` (standard output) given to two outputs of one run".into(),
+        )),
+    }
+}
+
+fn save_model(path: &Path, m: &Model, out: &mut dyn Write) -> Result<(), Error> {
+    save_model_with(path, m, "", out)
+}
+
+/// [`save_model`] with the comment lines `header` first.
+fn save_model_with(path: &Path, m: &Model, header: &str, out: &mut dyn Write) -> Result<(), Error> {
+    m.validate().map_err(|e| {
+        let name = if is_stdout(path) {
+            "standard output".into()
+        } else {
+            path.display().to_string()
+        };
+        Error::Runtime(format!("{name}: {e}"))
+    })?;
+    write_file(path, &format!("{header}{}", m.to_toml_string()), out)
+}
+
+pub(crate) fn write_file(path: &Path, text: &str, out: &mut dyn Write) -> Result<(), Error> {
+    if is_stdout(path) {
+        return emit(out, text);
+    }
     std::fs::write(path, text)
         .map_err(|e| Error::Runtime(format!("{}: cannot write: {e}", path.display())))
 }
@@ -58,7 +92,10 @@ fn same_file(a: &Path, b: &Path) -> bool {
 /// Refuses, before any work, an output that would write over an input file
 /// or that goes to a directory that does not exist (found only after the
 /// analysis, that would lose its result).
-fn not_input(out: &Path, inputs: &[&Path]) -> Result<(), Error> {
+pub(crate) fn not_input(out: &Path, inputs: &[&Path]) -> Result<(), Error> {
+    if is_stdout(out) {
+        return Ok(());
+    }
     if inputs.iter().any(|i| same_file(out, i)) {
         return Err(Error::Usage(format!(
             "{}: refusing to overwrite an input file",
@@ -88,6 +125,9 @@ fn output_dir(out: &Path) -> Result<(), Error> {
 /// Refuses two outputs of one run that name the same file: the second
 /// would replace the first.
 fn distinct_outputs(outputs: &[&Path]) -> Result<(), Error> {
+    stdout_output(outputs)?;
+    let files: Vec<&&Path> = outputs.iter().filter(|o| !is_stdout(o)).collect();
+    let outputs = files.as_slice();
     for (k, a) in outputs.iter().enumerate() {
         if let Some(b) = outputs[k + 1..].iter().find(|b| same_file(a, b)) {
             return Err(Error::Usage(format!(
@@ -244,11 +284,16 @@ pub fn synth(args: SynthArgs, out: &mut dyn Write) -> Result<(), Error> {
         noise,
         set,
     };
-    if let Some(t) = &truth {
-        distinct_outputs(&[path.as_path(), t.as_path()])?;
-        output_dir(t)?;
+    let outputs: Vec<&Path> = [Some(&path), truth.as_ref()]
+        .into_iter()
+        .flatten()
+        .map(PathBuf::as_path)
+        .collect();
+    distinct_outputs(&outputs)?;
+    for o in &outputs {
+        not_input(o, &[])?;
     }
-    output_dir(&path)?;
+    let to_stdout = stdout_output(&outputs)?;
     let (rec, model) = synth::generate(&spec)?;
     let comments = vec![
         format!(
@@ -265,9 +310,12 @@ pub fn synth(args: SynthArgs, out: &mut dyn Write) -> Result<(), Error> {
         ),
         "columns: t [s], u [N] (held to the next sample), x [m] (encoder counts)".into(),
     ];
-    data::write_csv(&path, &rec, &comments)?;
+    write_file(&path, &data::csv_text(&rec, &comments), out)?;
     if let Some(t) = truth {
-        save_model(&t, &model)?;
+        save_model(&t, &model, out)?;
+    }
+    if to_stdout {
+        return Ok(());
     }
     emit(
         out,
@@ -287,6 +335,12 @@ pub fn fit(args: FitArgs, out: &mut dyn Write) -> Result<(), Error> {
     } = args;
     let (rec, window) = load_data(&data, window)?;
     let start = model.as_deref().map(load_model).transpose()?;
+    let to_stdout = model_out.as_deref().is_some_and(is_stdout);
+    if to_stdout && json {
+        return Err(Error::Usage(
+            "`--model-out -` and `--json` both print to standard output: give one".into(),
+        ));
+    }
     if let Some(o) = &model_out {
         let mut inputs = vec![data.as_path()];
         if let Some(m) = &model {
@@ -310,7 +364,10 @@ pub fn fit(args: FitArgs, out: &mut dyn Write) -> Result<(), Error> {
     finite_figures(&data, &[("training rms", train), ("held-out rms", held)])?;
     let flags = fit_flags(&p, &res.model, &rec);
     if let Some(o) = &model_out {
-        save_model(o, &res.model)?;
+        save_model(o, &res.model, out)?;
+    }
+    if to_stdout {
+        return Ok(());
     }
     let text = if json {
         let v = serde_json::json!({
@@ -462,6 +519,7 @@ pub fn diagnose(args: DiagnoseArgs, out: &mut dyn Write) -> Result<(), Error> {
         not_input(o, &inputs)?;
     }
     distinct_outputs(&outputs)?;
+    let to_stdout = stdout_output(&outputs)?;
     if crate::steady::is_steady(&data) {
         // A steady-state record has no dynamics to window, no start model
         // to refine the same way and no time plot: an option given for them
@@ -488,13 +546,17 @@ pub fn diagnose(args: DiagnoseArgs, out: &mut dyn Write) -> Result<(), Error> {
                 shown.join(", ")
             )));
         }
-        let rec = crate::steady::SteadyRecord::new(crate::steady::read(&data)?);
+        let rec = crate::steady::read(&data)?;
         let rep = crate::steady::diagnose_steady(&rec, &candidates);
         if let Some(j) = &json {
-            write_file(j, &crate::steady::report_json(&rep))?;
+            write_file(j, &crate::steady::report_json(&rep), out)?;
         }
         if let Some(m) = &model_out {
-            save_model(m, &rep.model)?;
+            let header = rep.units.model_header().unwrap_or_default();
+            save_model_with(m, &rep.model, header, out)?;
+        }
+        if to_stdout {
+            return Ok(());
         }
         return emit(
             out,
@@ -515,13 +577,16 @@ pub fn diagnose(args: DiagnoseArgs, out: &mut dyn Write) -> Result<(), Error> {
         ],
     )?;
     if let Some(j) = &json {
-        write_file(j, &diagnose::report_json(&rep))?;
+        write_file(j, &diagnose::report_json(&rep), out)?;
     }
     if let Some(s) = &svg {
-        write_file(s, &crate::svg::diagnose_svg(&rep))?;
+        write_file(s, &crate::svg::diagnose_svg(&rep), out)?;
     }
     if let Some(m) = &model_out {
-        save_model(m, &rep.model)?;
+        save_model(m, &rep.model, out)?;
+    }
+    if to_stdout {
+        return Ok(());
     }
     emit(
         out,
@@ -532,10 +597,18 @@ pub fn diagnose(args: DiagnoseArgs, out: &mut dyn Write) -> Result<(), Error> {
 /// `static-curve`: the steady-state curve fit of an Indy7-layout file.
 pub fn static_curve(args: StaticCurveArgs, out: &mut dyn Write) -> Result<(), Error> {
     let StaticCurveArgs { file, json, svg } = args;
+    if json && svg.as_deref().is_some_and(is_stdout) {
+        return Err(Error::Usage(
+            "`--svg -` and `--json` both print to standard output: give one".into(),
+        ));
+    }
     let fitres = crate::static_curve::run(&file)?;
     if let Some(s) = &svg {
         not_input(s, &[file.as_path()])?;
-        write_file(s, &crate::static_curve::svg(&fitres))?;
+        write_file(s, &crate::static_curve::svg(&fitres), out)?;
+        if is_stdout(s) {
+            return Ok(());
+        }
     }
     let text = if json {
         crate::static_curve::json(&fitres)

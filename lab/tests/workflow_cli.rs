@@ -197,6 +197,24 @@ fn synth_fit_validate_diagnose() {
         &["refusing to overwrite"],
     );
     assert_eq!(std::fs::read_to_string(&data).unwrap(), before);
+
+    // An output `-` goes to standard output in place of the text report,
+    // byte for byte what the file gets (not a file named `-`).
+    let piped = ok(&["diagnose", d, "--json", "-"]);
+    assert_eq!(piped, std::fs::read_to_string(&rep).unwrap());
+    let piped = ok(&["fit", d, "--model", t, "--model-out", "-"]);
+    assert_eq!(piped, std::fs::read_to_string(&fitted).unwrap());
+    let piped = ok(&["synth", "--effect", "offset", "--seed", "2", "--out", "-"]);
+    assert_eq!(piped, before);
+    assert!(!std::path::Path::new("-").exists());
+    fails(
+        &["diagnose", d, "--json", "-", "--model-out", "-"],
+        &["`-` (standard output) given to two outputs"],
+    );
+    fails(
+        &["fit", d, "--json", "--model-out", "-"],
+        &["both print to standard output"],
+    );
 }
 
 #[test]
@@ -408,10 +426,24 @@ fn indy7_joint1_names_nonlinear_viscous() {
     let Some(f) = common::shared_or_skip("indy7/joint1_steady_state.csv") else {
         return;
     };
-    let rep = tmp("indy7_joint1.json");
-    ok(&["diagnose", f.as_str(), "--json", rep.to_str().unwrap()]);
+    let (rep, model) = (tmp("indy7_joint1.json"), tmp("indy7_joint1.toml"));
+    let text = ok(&[
+        "diagnose",
+        f.as_str(),
+        "--json",
+        rep.to_str().unwrap(),
+        "--model-out",
+        model.to_str().unwrap(),
+    ]);
+    // A rotary joint: its units said, in the model file too (whose key
+    // comments name the linear ones), and the file still reads back.
+    assert!(text.contains("forces in N·m, speeds in rad/s"), "{text}");
+    let toml = std::fs::read_to_string(&model).unwrap();
+    assert!(toml.starts_with("# rotary joint"), "{toml}");
+    breakaway_reference::Model::load(&model).unwrap();
     let v: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&rep).unwrap()).unwrap();
+    assert_eq!(v["units"], "N*m, rad/s");
     assert_eq!(
         v["effects_added"],
         serde_json::json!(["nonlinear_viscous"]),
