@@ -450,58 +450,12 @@ fn selected(name: &str) -> bool {
     }
 }
 
-/// Stack painting: the free RAM between the end of the static data and the
-/// painter's own frame is filled with a pattern; after a pass, the lowest
-/// word that no longer holds it is the deepest the pass reached.
-mod stack {
-    use core::ptr::{addr_of, read_volatile, write_volatile};
-    use core::sync::atomic::{AtomicUsize, Ordering};
+#[path = "common/stack.rs"]
+mod stack;
 
-    const PATTERN: u32 = 0xA5C3_5A3C;
-    /// At most this much below the stack pointer is painted (the
-    /// Cortex-M4F machine has 4 MiB of RAM; the passes need far less).
-    const SPAN: usize = 32 * 1024;
-
-    /// The lowest painted address.
-    static BOTTOM: AtomicUsize = AtomicUsize::new(0);
-
-    extern "C" {
-        /// cortex-m-rt: the first free word after the static data.
-        static __sheap: u32;
-    }
-
-    /// Paints from the bottom of the free RAM (at most `SPAN` below) up to
-    /// just below this function's own frame.
-    #[inline(never)]
-    pub fn paint() {
-        let top = super::sp().saturating_sub(8) & !3;
-        // Only the address of the linker symbol is taken.
-        let heap = addr_of!(__sheap) as usize;
-        let bottom = heap.max(top.saturating_sub(SPAN)) & !3;
-        BOTTOM.store(bottom, Ordering::Relaxed);
-        let mut at = bottom;
-        while at < top {
-            // SAFETY: [bottom, top) is free RAM below every live frame.
-            unsafe { write_volatile(at as *mut u32, PATTERN) };
-            at += 4;
-        }
-    }
-
-    /// Bytes used below `sp` since the last `paint` (`sp` at or below the
-    /// painter's caller, above the painted bottom); `None` when the pass
-    /// reached the bottom of the painted span (the figure would be a
-    /// lower bound).
-    #[inline(never)]
-    pub fn used_below(sp: usize) -> Option<usize> {
-        let bottom = BOTTOM.load(Ordering::Relaxed);
-        let mut at = bottom;
-        // SAFETY: reads of painted RAM below the live frames.
-        while at < sp && unsafe { read_volatile(at as *const u32) } == PATTERN {
-            at += 4;
-        }
-        (at > bottom).then(|| sp.saturating_sub(at))
-    }
-}
+/// At most this much below the stack pointer is painted (the Cortex-M4F
+/// machine has 4 MiB of RAM; the passes need far less).
+const STACK_SPAN: usize = 32 * 1024;
 
 /// Every group's passes again with the stack painted (not counted by the
 /// profile). Each group's models are built again (one group at a time: an
@@ -514,10 +468,10 @@ fn stack_pass(counts: &[i32; SAMPLES]) {
         let bench = bench(marker(), counts);
         let delta = bench.model.params().delta;
         for &(name, pass) in passes(group).iter().filter(|(n, _)| selected(n)) {
-            stack::paint();
+            let painted = stack::paint(STACK_SPAN);
             let (sp, _) = pass(&bench);
-            match stack::used_below(sp) {
-                Some(bytes) => hprintln!("stack {} {} {}", name, delta, bytes),
+            match painted.lowest(sp) {
+                Some(low) => hprintln!("stack {} {} {}", name, delta, sp - low),
                 // Not a number: the profile fails, naming the row.
                 None => hprintln!("stack {} {} beyond-the-painted-span", name, delta),
             }

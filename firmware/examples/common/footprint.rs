@@ -4,42 +4,30 @@
 //! loop's). `cargo xtask qemu NAME` adds .data, .bss and the stack for the
 //! RAM, and the sections in flash from the ELF.
 
-use core::ptr::{addr_of, read_volatile, write_volatile};
+use core::ptr::addr_of;
 
 use cortex_m_rt::{exception, ExceptionFrame};
 use cortex_m_semihosting::{debug, hio};
 
-const PATTERN: u32 = 0xA5C3_5A3C;
+#[path = "stack.rs"]
+mod stack;
 
 extern "C" {
-    /// cortex-m-rt: the first free word after the static data, and the
-    /// initial stack pointer.
-    static __sheap: u32;
+    /// cortex-m-rt: the initial stack pointer.
     static _stack_start: u32;
 }
 
 /// Runs `work` with the free RAM below the caller's frame painted, writes
 /// `stack <bytes>` (the deepest the stack reached below its top) and each
 /// `(label, number)` that `work` returns, then `done`, and exits; `fail`s
-/// when `work` returns `None` or the painting reads nothing.
+/// when `work` returns `None` or the stack reached the end of the free RAM.
 pub fn measure<const N: usize>(work: impl FnOnce() -> Option<[(&'static [u8], u32); N]>) -> ! {
-    let heap = addr_of!(__sheap) as usize;
-    let top = cortex_m::register::msp::read() as usize - 64;
-    let mut at = heap;
-    while at < top {
-        // SAFETY: [heap, top) is free RAM below every live frame.
-        unsafe { write_volatile(at as *mut u32, PATTERN) };
-        at += 4;
-    }
+    // All the free RAM.
+    let painted = stack::paint(usize::MAX);
     let Some(figures) = work() else { fail() };
-    let mut low = heap;
-    // SAFETY: reads of the painted RAM.
-    while low < top && unsafe { read_volatile(low as *const u32) } == PATTERN {
-        low += 4;
-    }
-    if low == heap {
-        fail();
-    }
+    let Some(low) = painted.lowest(usize::MAX) else {
+        fail()
+    };
     let stack_top = addr_of!(_stack_start) as usize;
     write_number(b"stack", (stack_top - low) as u32);
     for (label, n) in figures {
