@@ -65,9 +65,13 @@ enum Cmd {
         /// (default: none, the ramp starts as the servo lets go).
         #[arg(long)]
         ramp_pause: Option<f64>,
-        /// Output directory.
+        /// Output directory (new or empty, unless --force).
         #[arg(long)]
         out: PathBuf,
+        /// Write into a directory that is not empty (the record's files are
+        /// replaced; others are left as they are).
+        #[arg(long)]
+        force: bool,
     },
     /// Write one record per seed: DIR/<name>/{data.csv,truth.toml,truth.json} and DIR/index.json.
     Suite {
@@ -84,9 +88,14 @@ enum Cmd {
         /// record, as for `record` (default: none).
         #[arg(long)]
         ramp_pause: Option<f64>,
-        /// Output directory.
+        /// Output directory (holding no record of these seeds, unless
+        /// --force).
         #[arg(long)]
         out: PathBuf,
+        /// Write although DIR holds records of these seeds (their folders
+        /// are written over; a folder of another kind stays beside).
+        #[arg(long)]
+        force: bool,
     },
 }
 
@@ -220,6 +229,48 @@ fn checked_pause(pause: Option<f64>) -> Result<Option<f64>, Usage> {
     }
 }
 
+/// Refuses a record directory `out` that holds files already (unless
+/// `force`): another record's report or model would sit beside this one.
+fn empty_or_forced(out: &Path, force: bool) -> Result<(), Usage> {
+    let first = std::fs::read_dir(out)
+        .ok()
+        .and_then(|mut d| d.next())
+        .and_then(Result::ok);
+    match first {
+        Some(entry) if !force => Err(Usage(format!(
+            "{} is not empty (it holds {}): give a new or empty directory, or --force to write the record there",
+            out.display(),
+            entry.file_name().to_string_lossy()
+        ))),
+        _ => Ok(()),
+    }
+}
+
+/// Refuses a suite directory `out` that holds a record folder
+/// (`s<seed>_…`) of one of `seeds` (unless `force`): the records of two
+/// runs would be taken for one.
+fn no_record_of(out: &Path, seeds: &[u64], force: bool) -> Result<(), Usage> {
+    let Ok(entries) = std::fs::read_dir(out) else {
+        return Ok(());
+    };
+    let found = entries.filter_map(Result::ok).find(|e| {
+        let name = e.file_name().to_string_lossy().into_owned();
+        name.strip_prefix('s')
+            .and_then(|n| n.split('_').next())
+            .and_then(|n| n.parse::<u64>().ok())
+            .is_some_and(|seed| seeds.contains(&seed))
+    });
+    match found {
+        Some(e) if !force => Err(Usage(format!(
+            "{} already holds a record of these seeds ({}): give another directory, or --force to write over it",
+            out.display(),
+            e.file_name().to_string_lossy()
+        ))),
+        _ => Ok(()),
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
 fn record_cmd(
     seed: u64,
     family: Option<String>,
@@ -228,6 +279,7 @@ fn record_cmd(
     kind: &str,
     (duration, ramp_pause): (Option<f64>, Option<f64>),
     out: &Path,
+    force: bool,
 ) -> Result<Result<(), String>, Usage> {
     let kind = parse_kind(kind)?;
     let mut ov = Overrides {
@@ -255,6 +307,7 @@ fn record_cmd(
     }
     // Inconsistent overrides are command-line errors.
     breakaway_gen::draw::draw(seed, 0, kind, &ov).map_err(Usage)?;
+    empty_or_forced(out, force)?;
     let t0 = Instant::now();
     Ok(record::generate(seed, kind, &ov).and_then(|g| {
         write::write(&g, out)?;
@@ -269,9 +322,11 @@ fn suite_cmd(
     kind: &str,
     (jobs, ramp_pause): (Option<usize>, Option<f64>),
     out: &Path,
+    force: bool,
 ) -> Result<Result<(), String>, Usage> {
     let seeds = parse_seeds(seeds)?;
     let kind = parse_kind(kind)?;
+    no_record_of(out, &seeds, force)?;
     let ov = Overrides {
         ramp_pause: checked_pause(ramp_pause)?,
         ..Overrides::default()
@@ -368,6 +423,7 @@ fn main() -> ExitCode {
             duration,
             ramp_pause,
             out,
+            force,
         } => record_cmd(
             seed,
             family,
@@ -376,6 +432,7 @@ fn main() -> ExitCode {
             &kind,
             (duration, ramp_pause),
             &out,
+            force,
         ),
         Cmd::Suite {
             seeds,
@@ -383,7 +440,8 @@ fn main() -> ExitCode {
             jobs,
             ramp_pause,
             out,
-        } => suite_cmd(&seeds, &kind, (jobs, ramp_pause), &out),
+            force,
+        } => suite_cmd(&seeds, &kind, (jobs, ramp_pause), &out, force),
     };
     match r {
         Err(Usage(msg)) => {

@@ -279,7 +279,14 @@ pub fn write(g: &Generated, dir: &Path) -> Result<(), String> {
         std::fs::write(&p, text).map_err(|e| format!("{}: cannot write: {e}", p.display()))
     };
     put("data.csv", &csv(g))?;
-    if !g.rest_log.is_empty() {
+    if g.rest_log.is_empty() {
+        // Not another record's, left from before.
+        let stale = dir.join("rest_log.csv");
+        if stale.is_file() {
+            std::fs::remove_file(&stale)
+                .map_err(|e| format!("{}: cannot remove: {e}", stale.display()))?;
+        }
+    } else {
         put("rest_log.csv", &rest_log_csv(&g.rest_log))?;
     }
     put("truth.toml", &truth_toml(g)?)?;

@@ -434,6 +434,55 @@ fn cli_rejects_bad_input_with_code_2() {
     for f in ["data.csv", "truth.toml", "truth.json"] {
         assert!(dir.join(f).is_file(), "{f}");
     }
+    // A directory that holds a record is not written over without
+    // --force; with it, no file of the earlier record is left (the
+    // dwell record's rest log).
+    let data = std::fs::read(dir.join("data.csv")).unwrap();
+    let again = [
+        "record",
+        "--seed",
+        "4",
+        "--family",
+        "servo",
+        "--duration",
+        "3",
+    ];
+    let o = gen_cmd(&[&again[..], &["--effects", "dwell_stiction", "--out", out]].concat());
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("is not empty"));
+    assert_eq!(std::fs::read(dir.join("data.csv")).unwrap(), data);
+    let o = gen_cmd(
+        &[
+            &again[..],
+            &["--effects", "dwell_stiction", "--out", out, "--force"],
+        ]
+        .concat(),
+    );
+    assert_eq!(o.status.code(), Some(0));
+    assert!(dir.join("rest_log.csv").is_file());
+    let o = gen_cmd(&[&again[..], &["--effects", "none", "--out", out, "--force"]].concat());
+    assert_eq!(o.status.code(), Some(0));
+    assert!(!dir.join("rest_log.csv").exists());
+    // A suite directory holding a record of one of its seeds, likewise.
+    let suite = dir.join("suite");
+    let first = ["suite", "--seeds", "5..7", "--kind", "steady", "--out"];
+    assert_eq!(
+        gen_cmd(&[&first[..], &[suite.to_str().unwrap()]].concat())
+            .status
+            .code(),
+        Some(0)
+    );
+    let o = gen_cmd(&[
+        "suite",
+        "--seeds",
+        "6..8",
+        "--kind",
+        "steady",
+        "--out",
+        suite.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("already holds a record of these seeds"));
     let _ = std::fs::remove_dir_all(&dir);
 }
 
