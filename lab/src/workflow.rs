@@ -111,15 +111,18 @@ fn output_dir(out: &Path) -> Result<(), Error> {
         .parent()
         .filter(|d| !d.as_os_str().is_empty())
         .unwrap_or(Path::new("."));
-    if dir.is_dir() {
-        Ok(())
+    let problem = if dir.is_dir() {
+        return Ok(());
+    } else if dir.exists() {
+        "is not a directory"
     } else {
-        Err(Error::Usage(format!(
-            "{}: the directory {} does not exist",
-            out.display(),
-            dir.display()
-        )))
-    }
+        "does not exist"
+    };
+    Err(Error::Usage(format!(
+        "{}: the directory {} {problem}",
+        out.display(),
+        dir.display()
+    )))
 }
 
 /// Refuses two outputs of one run that name the same file: the second

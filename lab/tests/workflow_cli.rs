@@ -795,6 +795,11 @@ fn refused_before_the_analysis() {
         &["diagnose", &data, "--json", &missing],
         &["report.json", "does not exist"],
     );
+    // A file where the directory should be.
+    fails(
+        &["diagnose", &data, "--json", &format!("{data}/report.json")],
+        &["nodir.csv is not a directory"],
+    );
     // Sample 101 (file line 103: comment and header first) 0.3 ms after
     // the one before, at a 1 ms median interval.
     let jitter = rows(&|c| {
