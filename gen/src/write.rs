@@ -213,6 +213,7 @@ pub fn truth_json(g: &Generated) -> Value {
             "kind": if d.family == Family::VelocityLoop { "pi_velocity" } else { "pid_position" },
             "bandwidth_hz": d.bandwidth_hz,
             "u_max": d.ctx.u_max,
+            "ramp_pause": d.ctx.ramp_pause,
             "gains_position": [d.ctx.gains.0, d.ctx.gains.1, d.ctx.gains.2],
             "gains_velocity": [d.ctx.vgains.0, d.ctx.vgains.1],
         },

@@ -26,7 +26,7 @@
 //! ([`MissCause`]): what the metric cannot show is told apart from what
 //! the workflow got wrong.
 
-use crate::{cargo, root, run};
+use crate::{cargo, run};
 use breakaway_lab::diagnose::without_effect;
 use breakaway_reference::{Effect, Model};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -76,7 +76,8 @@ pub struct Args {
     /// records do (the generator's `--ramp-pause`; default: no pause)
     #[arg(long, value_name = "S")]
     ramp_pause: Option<f64>,
-    /// Where the records and reports go [default: target/sweep]
+    /// Where the records and reports go [default: the target directory's
+    /// `sweep`, `target/sweep` unless CARGO_TARGET_DIR says otherwise]
     #[arg(long, value_name = "DIR")]
     out: Option<PathBuf>,
     /// Where the JSON summary goes (it is also printed)
@@ -104,7 +105,9 @@ impl Args {
             to: self.seeds.1,
             kind: self.kind,
             ramp_pause: self.ramp_pause,
-            out: self.out.unwrap_or_else(|| root().join("target/sweep")),
+            out: self
+                .out
+                .unwrap_or_else(|| crate::target_dir().join("sweep")),
             json: self.json,
             lab: self.lab,
             rescore: self.rescore,
