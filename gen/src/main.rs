@@ -270,7 +270,6 @@ fn no_record_of(out: &Path, seeds: &[u64], force: bool) -> Result<(), Usage> {
     }
 }
 
-#[allow(clippy::too_many_arguments)]
 fn record_cmd(
     seed: u64,
     family: Option<String>,
@@ -278,8 +277,7 @@ fn record_cmd(
     effects: Option<String>,
     kind: &str,
     (duration, ramp_pause): (Option<f64>, Option<f64>),
-    out: &Path,
-    force: bool,
+    (out, force): (&Path, bool),
 ) -> Result<Result<(), String>, Usage> {
     let kind = parse_kind(kind)?;
     let mut ov = Overrides {
@@ -431,8 +429,7 @@ fn main() -> ExitCode {
             effects,
             &kind,
             (duration, ramp_pause),
-            &out,
-            force,
+            (&out, force),
         ),
         Cmd::Suite {
             seeds,
