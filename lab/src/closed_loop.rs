@@ -1023,12 +1023,7 @@ pub fn command(
         ..Setup::encoder(0.0)
     };
     setup.check().map_err(Error::Usage)?;
-    let to_stdout = args.svg.as_deref().is_some_and(crate::workflow::is_stdout);
-    if to_stdout && args.json {
-        return Err(Error::Usage(
-            "`--svg -` and `--json` both print to standard output: give one".into(),
-        ));
-    }
+    let to_stdout = crate::workflow::stdout_beside_flag(args.svg.as_deref(), "--svg", args.json)?;
     if let Some(path) = &args.svg {
         crate::workflow::not_input(path, &[])?;
     }

@@ -24,8 +24,25 @@ pub fn load_model(path: &Path) -> Result<Model, Error> {
 /// Whether the output path is `-`: standard output, where the output is
 /// written in place of the command's text report (`diagnose DATA --json -
 /// | jq …`).
-pub(crate) fn is_stdout(path: &Path) -> bool {
+fn is_stdout(path: &Path) -> bool {
     path.as_os_str() == "-"
+}
+
+/// Whether `output` is `-` ([`is_stdout`]); refused beside a flag
+/// (`json`, the `--json` of `fit`, `static-curve` and `closed-loop`) that
+/// prints to standard output already.
+pub(crate) fn stdout_beside_flag(
+    output: Option<&Path>,
+    option: &str,
+    json: bool,
+) -> Result<bool, Error> {
+    let to_stdout = output.is_some_and(is_stdout);
+    if to_stdout && json {
+        return Err(Error::Usage(format!(
+            "`{option} -` and `--json` both print to standard output: give one"
+        )));
+    }
+    Ok(to_stdout)
 }
 
 /// Whether one of a run's outputs is `-` ([`is_stdout`]); two are refused
@@ -40,12 +57,9 @@ fn stdout_output(outputs: &[&Path]) -> Result<bool, Error> {
     }
 }
 
-fn save_model(path: &Path, m: &Model, out: &mut dyn Write) -> Result<(), Error> {
-    save_model_with(path, m, "", out)
-}
-
-/// [`save_model`] with the comment lines `header` first.
-fn save_model_with(path: &Path, m: &Model, header: &str, out: &mut dyn Write) -> Result<(), Error> {
+/// Writes the model file of `m` (MODEL.md §7) to `path` ([`write_file`]),
+/// the comment lines `header` first.
+fn save_model(path: &Path, m: &Model, header: &str, out: &mut dyn Write) -> Result<(), Error> {
     m.validate().map_err(|e| {
         let name = if is_stdout(path) {
             "standard output".into()
@@ -126,9 +140,10 @@ fn output_dir(out: &Path) -> Result<(), Error> {
 }
 
 /// Refuses two outputs of one run that name the same file: the second
-/// would replace the first.
-fn distinct_outputs(outputs: &[&Path]) -> Result<(), Error> {
-    stdout_output(outputs)?;
+/// would replace the first. Returns whether one of them is `-`
+/// ([`stdout_output`]).
+fn distinct_outputs(outputs: &[&Path]) -> Result<bool, Error> {
+    let to_stdout = stdout_output(outputs)?;
     let files: Vec<&&Path> = outputs.iter().filter(|o| !is_stdout(o)).collect();
     let outputs = files.as_slice();
     for (k, a) in outputs.iter().enumerate() {
@@ -140,7 +155,7 @@ fn distinct_outputs(outputs: &[&Path]) -> Result<(), Error> {
             )));
         }
     }
-    Ok(())
+    Ok(to_stdout)
 }
 
 fn load_data(path: &Path, window: Option<usize>) -> Result<(Record, Window), Error> {
@@ -292,11 +307,10 @@ pub fn synth(args: SynthArgs, out: &mut dyn Write) -> Result<(), Error> {
         .flatten()
         .map(PathBuf::as_path)
         .collect();
-    distinct_outputs(&outputs)?;
+    let to_stdout = distinct_outputs(&outputs)?;
     for o in &outputs {
         not_input(o, &[])?;
     }
-    let to_stdout = stdout_output(&outputs)?;
     let (rec, model) = synth::generate(&spec)?;
     let comments = vec![
         format!(
@@ -315,7 +329,7 @@ pub fn synth(args: SynthArgs, out: &mut dyn Write) -> Result<(), Error> {
     ];
     write_file(&path, &data::csv_text(&rec, &comments), out)?;
     if let Some(t) = truth {
-        save_model(&t, &model, out)?;
+        save_model(&t, &model, "", out)?;
     }
     if to_stdout {
         return Ok(());
@@ -338,12 +352,7 @@ pub fn fit(args: FitArgs, out: &mut dyn Write) -> Result<(), Error> {
     } = args;
     let (rec, window) = load_data(&data, window)?;
     let start = model.as_deref().map(load_model).transpose()?;
-    let to_stdout = model_out.as_deref().is_some_and(is_stdout);
-    if to_stdout && json {
-        return Err(Error::Usage(
-            "`--model-out -` and `--json` both print to standard output: give one".into(),
-        ));
-    }
+    let to_stdout = stdout_beside_flag(model_out.as_deref(), "--model-out", json)?;
     if let Some(o) = &model_out {
         let mut inputs = vec![data.as_path()];
         if let Some(m) = &model {
@@ -367,7 +376,7 @@ pub fn fit(args: FitArgs, out: &mut dyn Write) -> Result<(), Error> {
     finite_figures(&data, &[("training rms", train), ("held-out rms", held)])?;
     let flags = fit_flags(&p, &res.model, &rec);
     if let Some(o) = &model_out {
-        save_model(o, &res.model, out)?;
+        save_model(o, &res.model, "", out)?;
     }
     if to_stdout {
         return Ok(());
@@ -521,8 +530,7 @@ pub fn diagnose(args: DiagnoseArgs, out: &mut dyn Write) -> Result<(), Error> {
     for o in &outputs {
         not_input(o, &inputs)?;
     }
-    distinct_outputs(&outputs)?;
-    let to_stdout = stdout_output(&outputs)?;
+    let to_stdout = distinct_outputs(&outputs)?;
     if crate::steady::is_steady(&data) {
         // A steady-state record has no dynamics to window, no start model
         // to refine the same way and no time plot: an option given for them
@@ -556,7 +564,7 @@ pub fn diagnose(args: DiagnoseArgs, out: &mut dyn Write) -> Result<(), Error> {
         }
         if let Some(m) = &model_out {
             let header = rep.units.model_header().unwrap_or_default();
-            save_model_with(m, &rep.model, header, out)?;
+            save_model(m, &rep.model, header, out)?;
         }
         if to_stdout {
             return Ok(());
@@ -586,7 +594,7 @@ pub fn diagnose(args: DiagnoseArgs, out: &mut dyn Write) -> Result<(), Error> {
         write_file(s, &crate::svg::diagnose_svg(&rep), out)?;
     }
     if let Some(m) = &model_out {
-        save_model(m, &rep.model, out)?;
+        save_model(m, &rep.model, "", out)?;
     }
     if to_stdout {
         return Ok(());
@@ -600,18 +608,14 @@ pub fn diagnose(args: DiagnoseArgs, out: &mut dyn Write) -> Result<(), Error> {
 /// `static-curve`: the steady-state curve fit of an Indy7-layout file.
 pub fn static_curve(args: StaticCurveArgs, out: &mut dyn Write) -> Result<(), Error> {
     let StaticCurveArgs { file, json, svg } = args;
-    if json && svg.as_deref().is_some_and(is_stdout) {
-        return Err(Error::Usage(
-            "`--svg -` and `--json` both print to standard output: give one".into(),
-        ));
-    }
+    let to_stdout = stdout_beside_flag(svg.as_deref(), "--svg", json)?;
     let fitres = crate::static_curve::run(&file)?;
     if let Some(s) = &svg {
         not_input(s, &[file.as_path()])?;
         write_file(s, &crate::static_curve::svg(&fitres), out)?;
-        if is_stdout(s) {
-            return Ok(());
-        }
+    }
+    if to_stdout {
+        return Ok(());
     }
     let text = if json {
         crate::static_curve::json(&fitres)

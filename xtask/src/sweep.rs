@@ -404,6 +404,7 @@ fn read_json<T: DeserializeOwned>(path: &Path) -> Result<T, String> {
 /// Generates the records of `o` and diagnoses each (two at a time); with
 /// `rescore`, scores the reports of the records already in `o.out`.
 pub fn sweep(o: &Options) -> Result<Vec<Scored>, String> {
+    let mut o = o.clone();
     if let Some(lab) = &o.lab {
         if !lab.is_file() {
             let what = if lab.exists() {
@@ -417,13 +418,9 @@ pub fn sweep(o: &Options) -> Result<Vec<Scored>, String> {
         let file =
             std::fs::canonicalize(lab).map_err(|e| format!("--lab {}: {e}", lab.display()))?;
         runs(lab, &file)?;
-        let o = Options {
-            lab: Some(file),
-            ..o.clone()
-        };
-        return sweep_with(&build()?, &o);
+        o.lab = Some(file);
     }
-    sweep_with(&build()?, o)
+    sweep_with(&build()?, &o)
 }
 
 /// [`sweep`] with the binaries already built in `bin`.

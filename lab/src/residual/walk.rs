@@ -122,14 +122,6 @@ impl Prepared {
     /// memory.
     pub fn walk(&self, m: &Model, mut f: impl FnMut(usize, &Friction)) {
         let (v_s, delta) = (m.v_stribeck, m.delta);
-        // exp(−(|v|/V)^δ) from ln|v|, as `exp(δ·(ln|v| − ln V))`.
-        let decay_along = |ln_speed: &[f64]| -> Vec<f64> {
-            let ln_v = v_s.ln();
-            ln_speed
-                .iter()
-                .map(|&l| decay_of_power((delta * (l - ln_v)).exp()))
-                .collect()
-        };
         // The decay multiplies Fs − Fc (plus the dwell excess): without a
         // dip and without `dwell_stiction` it is never read.
         let needs_decay = m.fs != m.fc || m.effects.dwell_stiction.is_some();
@@ -138,7 +130,15 @@ impl Prepared {
             None => Some(TermCache::get(
                 &self.terms.decay,
                 [v_s.to_bits(), delta.to_bits()],
-                || decay_along(&self.ln_speed()),
+                || {
+                    // exp(−(|v|/V)^δ) as `exp(δ·(ln|v| − ln V))`.
+                    let ln_v = v_s.ln();
+                    let ln_speed = self.ln_speed();
+                    ln_speed
+                        .iter()
+                        .map(|&l| decay_of_power((delta * (l - ln_v)).exp()))
+                        .collect()
+                },
             )),
             Some(lag) => Some({
                 let key = [v_s.to_bits(), delta.to_bits(), lag.tau_l.to_bits()];
