@@ -1361,6 +1361,12 @@ pub const SMOKE_CASES: &[(u64, &str, Guard, &str)] = &[
         Guard::Success,
         "a dwell rise that does not saturate within the record's data-side rests (γ fitted at 76 s): the relative spread of the dwell factor, version 10.6",
     ),
+    (
+        9_500_027,
+        "mixed",
+        Guard::Success,
+        "a `nonlinear_viscous` fit that took the whole Coulomb level (Fc = 1.4e-87 N) on a slow sinusoid with a ripple: a candidate that loses Fc is not sound, version 10.8",
+    ),
 ];
 
 #[cfg(test)]

@@ -72,7 +72,7 @@ pub const WORKFLOW_VERSION: &str = workflow_version!();
 /// `concat!`).
 macro_rules! workflow_version {
     () => {
-        "10.6"
+        "10.8"
     };
 }
 use workflow_version;
@@ -346,7 +346,7 @@ fn bic(p: &Prepared, rms: f64, n_params: usize) -> f64 {
 /// ranges: no degenerate parameter, no dip run to its bound that `base`
 /// did not have.
 fn sound_fit(p: &Prepared, base: &Model, m: &Model, effect: Effect) -> bool {
-    degenerate(p, m, effect).is_none() && !dip_run_to_bound(base, m)
+    degenerate(p, m, effect).is_none() && !dip_run_to_bound(base, m) && !coulomb_lost(base, m)
 }
 
 /// `effect` fitted on top of `base` (residual `r`) from its starts,
@@ -637,7 +637,8 @@ fn best_pair(
             let sound = [first.effect, second.effect]
                 .into_iter()
                 .all(|e| fit::has_effect(&m, e) && admissible(p, &m, e))
-                && !dip_run_to_bound(model, &m);
+                && !dip_run_to_bound(model, &m)
+                && !coulomb_lost(model, &m);
             let pair_rms = held_rms(p, &m).0;
             let needed = required_gain(first.effect) + required_gain(second.effect);
             let passes = sound
@@ -1156,6 +1157,31 @@ mod tests {
             "{dropped:?}"
         );
         assert!(!fs_at_bound(&simpler));
+    }
+
+    /// A candidate fit that handed the whole dry friction to its effect
+    /// (`Fc` at the bottom of its range, `exp(−200)` N, as the
+    /// `nonlinear_viscous` fits of 9500027 and 9500039 ran) is not sound,
+    /// whatever the effect's own parameters; the same term beside the
+    /// current model's Coulomb level is.
+    #[test]
+    fn a_candidate_that_loses_the_coulomb_level_is_not_sound() {
+        let p = prepared();
+        let base = fig5_model();
+        let mut beside = base.clone();
+        beside.effects.nonlinear_viscous = Some(NonlinearViscous {
+            sigma_n: 2.0,
+            n: 0.5,
+        });
+        assert!(sound_fit(&p, &base, &beside, Effect::NonlinearViscous));
+        let mut lost = beside.clone();
+        let excess = lost.fs - lost.fc;
+        lost.fc = (-200f64).exp();
+        lost.fs = lost.fc + excess;
+        assert!(coulomb_lost(&base, &lost) && !coulomb_lost(&base, &beside));
+        assert!(!sound_fit(&p, &base, &lost, Effect::NonlinearViscous));
+        // A model that had lost it already is judged against itself.
+        assert!(!coulomb_lost(&lost, &lost));
     }
 
     /// A base whose dip ran to `Fs = Fc` has it seeded again in the

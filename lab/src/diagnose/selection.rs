@@ -483,6 +483,29 @@ pub fn ripple_coherent(p: &Prepared, m: &Model) -> bool {
     })
 }
 
+/// Share of the current model's Coulomb level `Fc` below which a fitted
+/// candidate has lost it (version 10.8): the effect took the whole dry
+/// friction, with `Fc` at the bottom of its range (`exp(−200)` N), a
+/// parameter at a bound where MODEL.md's structure has a Coulomb level.
+/// Such a fit is not sound (`sound_fit`: a multistart prefers another
+/// start) and not a candidate. On the slow sinusoids 9500027 and
+/// 9500039 of the draw 9500000– (scored with version 10.6;
+/// `position_ripple` and `offset`+`asymmetry` hidden) a
+/// `nonlinear_viscous` of n = 1.95 and n = 0.26 was named with
+/// `Fc = 1.4e-87` N; no other report kept from the development draws
+/// (4 871 reports of 1 130 records, 829 of them steady-state) writes an
+/// `Fc` below 0.1 % of its start model's. With the rule
+/// 9500027 names its ripple (gap 0.61 → 0 N), 9500039 stays a miss
+/// (`nonlinear_viscous` with a Coulomb level), the other 158 records of
+/// the draw keep their reports.
+pub const COULOMB_LOST_SHARE: f64 = 1e-3;
+
+/// Whether `fitted` lost the Coulomb level of `current`
+/// ([`COULOMB_LOST_SHARE`]).
+pub fn coulomb_lost(current: &Model, fitted: &Model) -> bool {
+    fitted.fc < COULOMB_LOST_SHARE * current.fc
+}
+
 /// Smallest exponent `n` for which `nonlinear_viscous` is a finding:
 /// below it `|v|^n` changes by less than 1.4× per decade of speed (0.15),
 /// a level that trades with Fc (on a ramp record a fit ran to n = 0.053
