@@ -272,6 +272,47 @@ fn measured_velocity(x: &[f64], t: &[f64], v: &[f64], path: &Path) -> Result<(),
     )))
 }
 
+/// Moving samples of `p` (not still: the position leaves its count
+/// within the velocity window) on the blocks of `side` (`None`: all).
+fn moving_on(p: &Prepared, side: Option<bool>) -> usize {
+    p.valid()
+        .filter(|&i| !p.still[i] && side.is_none_or(|s| p.held_out[i] == s))
+        .count()
+}
+
+/// An error where none of the samples a figure is formed on moves
+/// (`scored` of the record's `moving` ones): the residual weighs only
+/// moving samples, and at rest the friction is the applied force, so a
+/// record whose axis creeps by a count now and then (a force below the
+/// stiction level throughout) holds no motion to compare a model with.
+/// Named here, before the figures come out as 0/0.
+fn no_motion(
+    path: &Path,
+    rec: &Record,
+    resolution: f64,
+    moving: usize,
+    scored: usize,
+) -> Result<(), Error> {
+    if scored > 0 {
+        return Ok(());
+    }
+    let (lo, hi) = rec
+        .x
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+            (a.min(x), b.max(x))
+        });
+    Err(Error::Runtime(format!(
+        "{}: the axis hardly moves: {moving} of {} samples move (the position leaves its \
+         count within the velocity window), none where the figures are scored, and the \
+         position spans {:.0} counts of {resolution:.3e}: at rest the friction is the applied \
+         force, so there is no motion to compare a model with",
+        path.display(),
+        rec.len(),
+        (hi - lo) / resolution,
+    )))
+}
+
 /// An error naming the first of `figures` [N] that is not finite: a
 /// residual that overflowed (forces or speeds near the `f64` range) or that
 /// weighed nothing is not a figure to print as a result.
@@ -366,6 +407,8 @@ pub fn fit(args: FitArgs, out: &mut dyn Write) -> Result<(), Error> {
     // in `validate` and `diagnose`: the figures of two fits of one record
     // (and `validate` of the fitted model) compare like with like.
     let base = diagnose::base_weights(&mut p, &mut |s| progress.show(s));
+    let scored = moving_on(&p, Some(false)).min(moving_on(&p, Some(true)));
+    no_motion(&data, &rec, p.resolution, moving_on(&p, None), scored)?;
     let m0 = start.unwrap_or(base);
     progress.show("fitting");
     let params = fit::params_of(&m0);
@@ -449,6 +492,8 @@ pub fn validate(args: ValidateArgs, out: &mut dyn Write) -> Result<(), Error> {
     let mut progress = Progress::stderr();
     diagnose::base_weights(&mut p, &mut |s| progress.show(s));
     progress.finish();
+    let moving = moving_on(&p, None);
+    no_motion(&args.data, &rec, p.resolution, moving, moving)?;
     let r = p.residual(&m);
     let all = p.rms(&r, None);
     let floor = p.floor(None);
@@ -579,6 +624,7 @@ pub fn diagnose(args: DiagnoseArgs, out: &mut dyn Write) -> Result<(), Error> {
     let opts = Options { window, candidates };
     let mut progress = Progress::stderr();
     let rep = diagnose::diagnose(&rec, start.as_ref(), &opts, &mut progress);
+    no_motion(&data, &rec, rep.resolution, rep.moving, rep.moving_held_out)?;
     finite_figures(
         &data,
         &[
