@@ -599,15 +599,20 @@ fn refused_rather_than_silently_wrong() {
             _ => format!("{l}\n"),
         })
         .collect();
-    let still = write("still.csv", &still);
     let model = common::fig5();
-    for args in [
-        vec!["fit", still.as_str()],
-        vec!["validate", still.as_str(), "--model", model.as_str()],
-        vec!["diagnose", still.as_str()],
-    ] {
-        fails(&args, &["still.csv", "never changes"]);
-    }
+    // `fit`, `validate` and `diagnose` of the record `text` written as
+    // `name` each fail naming it and every needle.
+    let refused_by_all = |name: &str, text: &str, needles: &[&str]| {
+        let data = write(name, text);
+        for args in [
+            vec!["fit", data.as_str()],
+            vec!["validate", data.as_str(), "--model", model.as_str()],
+            vec!["diagnose", data.as_str()],
+        ] {
+            fails(&args, &[&[name], needles].concat());
+        }
+    };
+    refused_by_all("still.csv", &still, &["never changes"]);
     // The position dithers by one count now and then (a force below the
     // stiction level throughout): no sample moves over a velocity window,
     // so no figure can be formed (a fresh sweep's slow sinusoid 9700105
@@ -622,17 +627,11 @@ fn refused_rather_than_silently_wrong() {
             _ => format!("{l}\n"),
         })
         .collect();
-    let creep = write("creep.csv", &creep);
-    for args in [
-        vec!["fit", creep.as_str()],
-        vec!["validate", creep.as_str(), "--model", model.as_str()],
-        vec!["diagnose", creep.as_str()],
-    ] {
-        fails(
-            &args,
-            &["creep.csv", "hardly moves", "0 of 400 samples move"],
-        );
-    }
+    refused_by_all(
+        "creep.csv",
+        &creep,
+        &["hardly moves", "0 of 400 samples move"],
+    );
     // Forces near the f64 range: the residual overflows.
     let huge: String = good
         .lines()
@@ -646,14 +645,7 @@ fn refused_rather_than_silently_wrong() {
             }
         })
         .collect();
-    let huge = write("huge_u.csv", &huge);
-    for args in [
-        vec!["fit", huge.as_str()],
-        vec!["validate", huge.as_str(), "--model", model.as_str()],
-        vec!["diagnose", huge.as_str()],
-    ] {
-        fails(&args, &["huge_u.csv", "out of the range"]);
-    }
+    refused_by_all("huge_u.csv", &huge, &["out of the range"]);
     // Two outputs of one run naming one file, or an output that is the
     // data under another name.
     let data = write("collide.csv", &good);

@@ -344,7 +344,7 @@ fn bic(p: &Prepared, rms: f64, n_params: usize) -> f64 {
 
 /// Whether `m`, fitted with `effect` on top of `base`, ended inside its
 /// ranges: no degenerate parameter, no dip run to its bound that `base`
-/// did not have.
+/// did not have, no Coulomb level lost to the effect ([`coulomb_lost`]).
 fn sound_fit(p: &Prepared, base: &Model, m: &Model, effect: Effect) -> bool {
     degenerate(p, m, effect).is_none() && !dip_run_to_bound(base, m) && !coulomb_lost(base, m)
 }
