@@ -577,8 +577,9 @@ fn nonlinear_in_place_of_viscous(p: &Prepared, final_model: &Model) -> Option<Mo
     sound(&fitted).then_some(fitted)
 }
 
-/// Whether `fitted` (with `effect`) may be a candidate at all.
-fn admissible(p: &Prepared, fitted: &Model, effect: Effect) -> bool {
+/// Whether `fitted` (with `effect`, fitted on top of `current`) may be a
+/// candidate at all.
+fn admissible(p: &Prepared, current: &Model, fitted: &Model, effect: Effect) -> bool {
     // Dwell *time* stiction must make the break-away depend on the rest
     // length; a γ far below every rest of the record only separates
     // "after a rest" from "after a reversal" (the look-alike of MODEL.md
@@ -591,8 +592,10 @@ fn admissible(p: &Prepared, fitted: &Model, effect: Effect) -> bool {
         return false;
     }
     // A fit that ran to a bound of its parameters has not found the effect
-    // (or has found a simpler structure).
+    // (or has found a simpler structure); nor has one that handed it the
+    // whole Coulomb level.
     degenerate(p, fitted, effect).is_none()
+        && !coulomb_lost(current, fitted)
         && visibility(p, fitted, effect) >= min_visibility(effect)
 }
 
@@ -636,9 +639,8 @@ fn best_pair(
             let m = fit_candidate(p, &first.model, &r1, second.effect)?;
             let sound = [first.effect, second.effect]
                 .into_iter()
-                .all(|e| fit::has_effect(&m, e) && admissible(p, &m, e))
-                && !dip_run_to_bound(model, &m)
-                && !coulomb_lost(model, &m);
+                .all(|e| fit::has_effect(&m, e) && admissible(p, model, &m, e))
+                && !dip_run_to_bound(model, &m);
             let pair_rms = held_rms(p, &m).0;
             let needed = required_gain(first.effect) + required_gain(second.effect);
             let passes = sound

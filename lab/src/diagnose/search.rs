@@ -210,7 +210,7 @@ impl<'a> Search<'a> {
             .collect();
         seed_nested_pair(p, &self.model, &mut fits);
         for (effect, fitted) in fits.into_iter().flatten() {
-            if !admissible(p, &fitted, effect) || coulomb_lost(&self.model, &fitted) {
+            if !admissible(p, &self.model, &fitted, effect) {
                 continue;
             }
             let (c_rms, _) = held_rms(p, &fitted);
