@@ -246,7 +246,7 @@ fn set(m: &mut Model, p: Param, th: f64, sc: Scales) {
             if p == Param::DwellDfs {
                 d.delta_fs = v;
             } else {
-                d.gamma = v.clamp(5e-3, 100.0);
+                d.gamma = v.clamp(GAMMA_RANGE.0, sc.gamma);
             }
             e.dwell_stiction = Some(d);
         }
@@ -287,6 +287,9 @@ pub struct Scales {
     /// Longest presliding distance `z_max` a fit may reach [m]
     /// ([`presliding_cap`]).
     pub z_max: f64,
+    /// Longest dwell time constant `γ` a fit may reach [s]
+    /// ([`dwell_gamma_cap`]).
+    pub gamma: f64,
 }
 
 impl Scales {
@@ -295,13 +298,15 @@ impl Scales {
     pub const UNIT: Scales = Scales {
         t_span: 1.0,
         z_max: f64::INFINITY,
+        gamma: GAMMA_RANGE.1,
     };
 
-    /// The scales of the record `p`.
-    pub fn of(p: &Prepared) -> Scales {
+    /// The scales of the record `p` for a fit from `m0`.
+    pub fn of(p: &Prepared, m0: &Model) -> Scales {
         Scales {
             t_span: (p.t[p.len() - 1] - p.t[0]).max(1e-9),
             z_max: presliding_cap(p),
+            gamma: dwell_gamma_cap(p, m0),
         }
     }
 }
@@ -436,10 +441,45 @@ pub fn presliding_cap(p: &Prepared) -> f64 {
     p.travel().max(PRESLIDING_CAP_COUNTS * p.resolution)
 }
 
+/// Range of the dwell time constant `γ` [s] (`dwell_stiction`): from
+/// 5 ms, below which a rest of a few samples saturates it, to 100 s, or
+/// [`dwell_gamma_cap`] where that is shorter. The lower end, and 100 s,
+/// count as bounds ([`crate::diagnose::degenerate`]).
+pub const GAMMA_RANGE: (f64, f64) = (5e-3, 100.0);
+
+/// [`dwell_gamma_cap`] in units of the record's longest rest.
+pub const GAMMA_CAP_RESTS: f64 = 4.0;
+
+/// The longest dwell time constant `γ` [s] a fit from `m0` may reach on
+/// `p`: [`GAMMA_CAP_RESTS`] times the longest rest that `m0`'s dwell
+/// clock counts in the record ([`Prepared::rests`], at `m0`'s `v_rest`,
+/// which no fit moves), at most 100 s; 100 s without the effect or
+/// without such a rest.
+///
+/// Past a few rests the record shows Fs rising with the rest length but
+/// not saturating: `ΔFs·t_d/(t_d + γ)` is then `(ΔFs/γ)·t_d` within the
+/// curvature the longest rest still shows, and only the ratio, the rise
+/// rate, is resolved. The fit follows it to the top of the range, where
+/// `ΔFs` grows with `γ` (on the suite-like record 9600045, rests of
+/// 0.13–1.6 s, the fit ended at γ = 99.9 s with ΔFs = 281 N on an axis
+/// of Fc = 2.4 N, and the candidate that took 74 % of the gap was
+/// rejected as a parameter at its bound). As with [`presliding_cap`],
+/// the record cannot tell a longer `γ` from any other long one; a fit at
+/// the cap names the effect with its rise rate, and the report says that
+/// the saturation is not seen.
+pub fn dwell_gamma_cap(p: &Prepared, m0: &Model) -> f64 {
+    m0.effects
+        .dwell_stiction
+        .and_then(|d| p.rests(d.v_rest))
+        .map_or(GAMMA_RANGE.1, |(_, longest, _)| {
+            (GAMMA_CAP_RESTS * longest).min(GAMMA_RANGE.1)
+        })
+}
+
 /// Levenberg–Marquardt fit of the parameters `params` of `m0` on the
-/// training set, in the [`Scales`] of the record (`z_max` at most
-/// [`presliding_cap`]); `tick` is called once per iteration (for
-/// progress).
+/// training set, in the [`Scales`] of the record for `m0` (`z_max` at
+/// most [`presliding_cap`], `γ` at most [`dwell_gamma_cap`]); `tick` is
+/// called once per iteration (for progress).
 pub fn fit(
     p: &Prepared,
     m0: &Model,
@@ -447,7 +487,7 @@ pub fn fit(
     opts: &FitOptions,
     tick: &mut dyn FnMut(usize),
 ) -> FitResult {
-    let scales = Scales::of(p);
+    let scales = Scales::of(p, m0);
     let training = Training::of(p);
     let th0 = encode(m0, params, scales);
     let problem = ModelProblem {

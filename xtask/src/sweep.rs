@@ -1367,6 +1367,12 @@ pub const SMOKE_CASES: &[(u64, &str, Guard, &str)] = &[
         Guard::Success,
         "a `nonlinear_viscous` fit that took the whole Coulomb level (Fc = 1.4e-87 N) on a slow sinusoid with a ripple: a candidate that loses Fc is not sound, version 10.8",
     ),
+    (
+        9_700_050,
+        "mixed",
+        Guard::Success,
+        "`dwell_stiction` beside `frictional_lag` whose dwell fit ran γ to the top of its range (100 s): γ at most four times the longest rest, version 10.9",
+    ),
 ];
 
 #[cfg(test)]

@@ -72,7 +72,7 @@ pub const WORKFLOW_VERSION: &str = workflow_version!();
 /// `concat!`).
 macro_rules! workflow_version {
     () => {
-        "10.8"
+        "10.9"
     };
 }
 use workflow_version;
@@ -1117,6 +1117,26 @@ mod tests {
         let long = dwell_spread(&p, &with_gamma(50.0));
         assert!((long - 0.797).abs() < 0.01, "{long}");
         assert_eq!(dwell_spread(&p, &fig5_model()), 0.0);
+        // The fit's range of γ ends at four times the longest rest (1 s),
+        // and a fit there is not at a bound; 100 s without the effect.
+        let cap = fit::dwell_gamma_cap(&p, &with_gamma(1.0));
+        assert!(
+            (cap - fit::GAMMA_CAP_RESTS * longest).abs() < 1e-12,
+            "{cap}"
+        );
+        assert_eq!(fit::dwell_gamma_cap(&p, &fig5_model()), fit::GAMMA_RANGE.1);
+        let params = [Param::DwellDfs, Param::DwellGamma];
+        let scales = fit::Scales::of(&p, &with_gamma(1.0));
+        let far = fit::decode(
+            &with_gamma(1.0),
+            &params,
+            &[0.5f64.ln(), 1e3f64.ln()],
+            scales,
+        );
+        let gamma = far.effects.dwell_stiction.expect("dwell").gamma;
+        assert_eq!(gamma, cap);
+        assert!(degenerate(&p, &far, Effect::DwellStiction).is_none());
+        assert!(degenerate(&p, &with_gamma(100.0), Effect::DwellStiction).is_some());
     }
 
     /// A ripple longer than the travel is degenerate (a trend in position),

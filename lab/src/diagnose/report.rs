@@ -232,9 +232,17 @@ fn dwell_rests_json(rep: &Report) -> serde_json::Value {
             "count": count,
             "rise_rate": d.delta_fs / d.gamma,
             "saturation_seen": d.gamma <= longest,
+            "gamma_at_cap": gamma_at_cap(d.gamma, longest),
         }),
         _ => serde_json::Value::Null,
     }
+}
+
+/// Whether `gamma` [s] sits at the top of its range on a record whose
+/// longest rest is `longest` [s] ([`fit::dwell_gamma_cap`]).
+fn gamma_at_cap(gamma: f64, longest: f64) -> bool {
+    let cap = (fit::GAMMA_CAP_RESTS * longest).min(fit::GAMMA_RANGE.1);
+    gamma >= cap * (1.0 - 1e-9)
 }
 
 /// The text line of [`dwell_rests_json`].
@@ -257,7 +265,15 @@ fn write_dwell_rests(rep: &Report, s: &mut String) {
     } else {
         writeln!(
             s,
-            ", longer than every rest: the record shows the rise before it saturates, so ΔFs and γ are resolved mostly as their ratio ΔFs/γ = {} N/s",
+            ", longer than every rest{}: the record shows the rise before it saturates, so ΔFs and γ are resolved mostly as their ratio ΔFs/γ = {} N/s",
+            if gamma_at_cap(d.gamma, longest) {
+                format!(
+                    " (at the top of its range, {} times the longest rest)",
+                    fit::GAMMA_CAP_RESTS
+                )
+            } else {
+                String::new()
+            },
             short(d.delta_fs / d.gamma, 3)
         )
     };

@@ -211,9 +211,7 @@ pub fn tied_look_alike(step: &Step, floor: f64) -> Option<(Effect, f64, f64)> {
     ((mine - theirs).abs() <= TIE_SHARE * step.rms_before).then_some((other, mine, theirs))
 }
 
-/// Shortest rest counted by [`dwell_spread`] [s]: the data-side rest at a
-/// slow reversal through zero lasts up to about 60 ms at high encoder noise.
-pub const MIN_DWELL_REST: f64 = 0.1;
+pub use crate::residual::MIN_DWELL_REST;
 
 /// Least relative spread of the dwell factor `t_d/(t_d + γ)` over the
 /// rests of a record (see [`dwell_spread`]) for a `dwell_stiction`
@@ -230,22 +228,7 @@ pub const MIN_DWELL_SPREAD: f64 = 0.15;
 /// `≤ v_rest`): `(shortest, longest, how many)` [s], or `None` without
 /// the effect or without such a rest.
 pub fn dwell_rests(p: &Prepared, m: &Model) -> Option<(f64, f64, usize)> {
-    let dw = m.effects.dwell_stiction?;
-    let mut start: Option<f64> = Some(p.t[0]);
-    let (mut lo, mut hi, mut n) = (f64::INFINITY, f64::NEG_INFINITY, 0);
-    for i in 0..p.len() {
-        if p.rest_speed(i) <= dw.v_rest {
-            start.get_or_insert(p.t[i]);
-        } else if let Some(s) = start.take() {
-            let td = p.t[i] - s;
-            if td >= MIN_DWELL_REST {
-                lo = lo.min(td);
-                hi = hi.max(td);
-                n += 1;
-            }
-        }
-    }
-    (n > 0).then_some((lo, hi, n))
+    p.rests(m.effects.dwell_stiction?.v_rest)
 }
 
 /// Relative spread `1 − f(shortest)/f(longest)` of the dwell factor
@@ -410,7 +393,7 @@ pub fn degenerate(p: &Prepared, m: &Model, effect: Effect) -> Option<String> {
             })
         }
         Effect::DwellStiction => m.effects.dwell_stiction.and_then(|d| {
-            (near(d.gamma, 5e-3) || near(d.gamma, 100.0))
+            (near(d.gamma, fit::GAMMA_RANGE.0) || near(d.gamma, fit::GAMMA_RANGE.1))
                 .then(|| format!("gamma = {} s at a bound", d.gamma))
         }),
         Effect::NonlinearViscous => nonlinear_viscous_degenerate(m),

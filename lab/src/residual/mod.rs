@@ -55,6 +55,11 @@ mod weights;
 /// (0.045·q/h for k = 5), above it.
 pub const REST_COUNT_RATE: f64 = 0.02;
 
+/// Shortest rest counted by [`Prepared::rests`] [s]: the data-side rest
+/// at a slow reversal through zero lasts up to about 60 ms at high encoder
+/// noise.
+pub const MIN_DWELL_REST: f64 = 0.1;
+
 /// Default half-width `k` of the Savitzky–Golay window (samples).
 pub const DEFAULT_HALF_WIDTH: usize = 5;
 /// Half-width of the velocity estimate [`auto_window`] chooses (samples).

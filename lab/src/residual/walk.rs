@@ -26,6 +26,28 @@ impl Prepared {
         self.rest_speed[i]
     }
 
+    /// The rests of at least [`MIN_DWELL_REST`] that end in motion, as a
+    /// `dwell_stiction` clock with `v_rest` [m/s] counts them (rest while
+    /// [`Prepared::rest_speed`] `≤ v_rest`; the record starts at rest):
+    /// `(shortest, longest [s], how many)`, or `None` without such a rest.
+    pub fn rests(&self, v_rest: f64) -> Option<(f64, f64, usize)> {
+        let mut start: Option<f64> = Some(self.t[0]);
+        let (mut lo, mut hi, mut n) = (f64::INFINITY, f64::NEG_INFINITY, 0);
+        for i in 0..self.len() {
+            if self.rest_speed(i) <= v_rest {
+                start.get_or_insert(self.t[i]);
+            } else if let Some(s) = start.take() {
+                let td = self.t[i] - s;
+                if td >= MIN_DWELL_REST {
+                    lo = lo.min(td);
+                    hi = hi.max(td);
+                    n += 1;
+                }
+            }
+        }
+        (n > 0).then_some((lo, hi, n))
+    }
+
     /// Speed [m/s] of the axis for the `dwell_stiction` clock at every
     /// sample of the positions `xs` [m] at times `t` [s], `q` [m] the
     /// encoder count, from the counts alone (the encoder's period, "1/T",
