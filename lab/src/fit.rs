@@ -471,9 +471,12 @@ pub fn dwell_gamma_cap(p: &Prepared, m0: &Model) -> f64 {
     m0.effects
         .dwell_stiction
         .and_then(|d| p.rests(d.v_rest))
-        .map_or(GAMMA_RANGE.1, |(_, longest, _)| {
-            (GAMMA_CAP_RESTS * longest).min(GAMMA_RANGE.1)
-        })
+        .map_or(GAMMA_RANGE.1, |(_, longest, _)| gamma_cap_of(longest))
+}
+
+/// [`dwell_gamma_cap`] of a record whose longest rest is `longest` [s].
+pub fn gamma_cap_of(longest: f64) -> f64 {
+    (GAMMA_CAP_RESTS * longest).min(GAMMA_RANGE.1)
 }
 
 /// Levenberg–Marquardt fit of the parameters `params` of `m0` on the

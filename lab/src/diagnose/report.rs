@@ -241,8 +241,7 @@ fn dwell_rests_json(rep: &Report) -> serde_json::Value {
 /// Whether `gamma` [s] sits at the top of its range on a record whose
 /// longest rest is `longest` [s] ([`fit::dwell_gamma_cap`]).
 fn gamma_at_cap(gamma: f64, longest: f64) -> bool {
-    let cap = (fit::GAMMA_CAP_RESTS * longest).min(fit::GAMMA_RANGE.1);
-    gamma >= cap * (1.0 - 1e-9)
+    gamma >= fit::gamma_cap_of(longest) * (1.0 - 1e-9)
 }
 
 /// The text line of [`dwell_rests_json`].
