@@ -38,6 +38,9 @@ pub struct StaticLevel {
     /// The `Fs` written [N]: the fitted one, or the held level where
     /// [`pin`] raised it.
     pub written: f64,
+    /// Whether the model had no Stribeck dip (`Fs = Fc`) and [`pin`]
+    /// restored one with `Fs` at the held level.
+    pub restored: bool,
 }
 
 impl StaticLevel {
@@ -98,20 +101,33 @@ const PIN_STARTS: [(f64, Option<f64>, f64); 5] = [
 /// the other parameters refitted with `Fs − Fc` fixed (from the starts of
 /// `PIN_STARTS`, the best sound fit on the held-out blocks), where that
 /// level exceeds the fitted `Fs` by [`MIN_RAISE`] (`None`: `m` stands).
-/// A model without a Stribeck dip (`Fs = Fc`, absent or
-/// dropped as not identifiable) is left as it is: a dip the motion cannot
-/// resolve is not written from the holds alone.
-pub fn pin(p: &Prepared, m: &Model) -> (StaticLevel, Option<Model>) {
+/// A model without a Stribeck dip (`Fs = Fc`: the base fit found none, or
+/// it was dropped as not identifiable or at a bound of its range) gets
+/// one back only where the dip with `Fs` at the held level, `V` and `δ`
+/// refitted, is sound and lowers the held-out model error as a candidate
+/// must ([`enough_gain`] for `stribeck`, against `floor` [N]): a dip the
+/// motion cannot resolve is not written from the holds alone, but one
+/// that failed only because its fit traded `Fs` against `V` to a bound
+/// (`Fs = 11·Fc`, a narrow dip standing in for a high static level) is
+/// written where the holds give `Fs` its value. (Version 10.10: on the
+/// development record 10000057, dwell hidden, the dip at its bound was
+/// dropped and the written model's gap grew from 0.025 to 0.160 N while
+/// the axis held 37.5 N against a written `Fs = Fc` of 18.0 N.)
+pub fn pin(p: &Prepared, m: &Model, floor: f64) -> (StaticLevel, Option<Model>) {
     let mut level = StaticLevel {
         held: held_levels(p, m),
         fitted: m.fs,
         written: m.fs,
+        restored: false,
     };
     let target = level.both();
-    if !(fit::has_effect(m, Effect::Stribeck) && target > m.fs * (1.0 + MIN_RAISE)) {
+    if target <= m.fs * (1.0 + MIN_RAISE) {
         return (level, None);
     }
-    let params: Vec<Param> = fit::params_of(m)
+    let dip = fit::has_effect(m, Effect::Stribeck);
+    let mut with_fs = m.clone();
+    with_fs.fs = target;
+    let params: Vec<Param> = fit::params_of(&with_fs)
         .into_iter()
         .filter(|q| *q != Param::FsExcess)
         .collect();
@@ -133,9 +149,11 @@ pub fn pin(p: &Prepared, m: &Model) -> (StaticLevel, Option<Model>) {
         .filter(sound)
         .map(|c| (held_rms(p, &c).0, c))
         .min_by(|a, b| a.0.total_cmp(&b.0))
+        .filter(|(rms, _)| dip || enough_gain(Effect::Stribeck, held_rms(p, m).0, *rms, floor))
         .map(|(_, pinned)| pinned);
     if let Some(pinned) = &best {
         level.written = pinned.fs;
+        level.restored = !dip;
     }
     (level, best)
 }
@@ -180,6 +198,7 @@ mod tests {
             held: [up, down],
             fitted: 1.0,
             written: 1.0,
+            restored: false,
         };
         assert_eq!(level.both(), up.min(down));
         assert!(!level.raised());
@@ -204,5 +223,94 @@ mod tests {
                 "{shifted:?} against {drifted:?}"
             );
         }
+    }
+
+    /// A reversing motion with half-second holds, each move of 2 mm (a
+    /// half cosine over 1 s, then the hold), quantised to 1 µm, on the
+    /// axis of `fig5_model` (Fs = 1.5·Fc): the force is the model's own
+    /// along the motion (an in-model check of the arithmetic of [`pin`],
+    /// not evidence of the workflow), held at 1.4 N towards the next move
+    /// while the axis is still.
+    fn held_record() -> (Prepared, Model) {
+        let truth = fig5_model();
+        let hold = 0.5;
+        let cycle = 2.0 * (1.0 + hold);
+        let position = |t: f64| {
+            let k = (t / (1.0 + hold)).floor();
+            let s = t - k * (1.0 + hold);
+            let from = if k as i64 % 2 == 0 { 0.0 } else { 2e-3 };
+            let to = 2e-3 - from;
+            let w = if s < hold {
+                0.0
+            } else {
+                0.5 * (1.0 - (PI * (s - hold)).cos())
+            };
+            ((from + (to - from) * w) / 1e-6).round() * 1e-6
+        };
+        let mut rec = record((4.0 * cycle / 1e-3) as usize, 1e-3, position);
+        // Held towards the move that follows the hold.
+        let towards = |t: f64| {
+            if ((t / (1.0 + hold)).floor() as i64) % 2 == 0 {
+                1.0
+            } else {
+                -1.0
+            }
+        };
+        rec.u = rec.t.iter().map(|&t| 1.4 * towards(t)).collect();
+        let window = Window {
+            velocity: 4,
+            force: 16,
+        };
+        let p0 = Prepared::with_window(&rec, window);
+        let f = p0.friction(&truth);
+        // u = F + m·ẍ with ẍ from the unquantised half cosine.
+        rec.u = rec
+            .t
+            .iter()
+            .zip(&f)
+            .map(|(&t, f)| {
+                let s = t % (1.0 + hold);
+                let a = if s < hold {
+                    0.0
+                } else {
+                    -towards(t) * 2e-3 * 0.5 * PI * PI * (PI * (s - hold)).cos()
+                };
+                f + truth.mass * a
+            })
+            .collect();
+        let mut p = Prepared::with_window(&rec, window);
+        let r = p.residual(&truth);
+        p.set_error_weights(&truth, &r);
+        (p, truth)
+    }
+
+    /// Version 10.10: a model whose dip was dropped (`Fs = Fc`) gets it
+    /// back with `Fs` at the level the still axis held (1.4 N, less the
+    /// margin) where that dip lowers the held-out model error as a
+    /// candidate must; where the axis held no more than `Fc`, nothing is
+    /// restored.
+    #[test]
+    fn a_dropped_dip_is_restored_at_the_held_level() {
+        let (p, truth) = held_record();
+        let floor = p.floor(Some(true));
+        let mut flat = truth.clone();
+        flat.fs = flat.fc;
+        let (level, pinned) = pin(&p, &flat, floor);
+        let margin = HELD_MARGIN_SIGMAS * p.sigma0;
+        assert!(
+            (level.both() - (1.4 - margin)).abs() < 0.02,
+            "held {:?}, margin {margin}",
+            level.held
+        );
+        let pinned = pinned.expect("a dip restored at the held level");
+        assert!(level.restored && level.raised(), "{level:?}");
+        assert!(fit::has_effect(&pinned, Effect::Stribeck));
+        assert!(held_rms(&p, &pinned).0 < held_rms(&p, &flat).0);
+        // Held at no more than the Coulomb level: no dip to restore.
+        let mut strong = flat.clone();
+        strong.fc = 1.5;
+        strong.fs = 1.5;
+        let (level, pinned) = pin(&p, &strong, floor);
+        assert!(pinned.is_none() && !level.restored, "{level:?}");
     }
 }

@@ -137,7 +137,7 @@ pub fn report_json(rep: &Report) -> String {
         },
         "valid_samples": rep.still.1,
         "mass_identified": !fit::mass_at_bound(&rep.model),
-        "static_level": rep.static_level.map(|l| json!({"held": l.held, "fs_fitted": l.fitted, "fs_written": l.written, "raised": l.raised()})),
+        "static_level": rep.static_level.map(|l| json!({"held": l.held, "fs_fitted": l.fitted, "fs_written": l.written, "raised": l.raised(), "dip_restored": l.restored})),
         "dwell_rests": dwell_rests_json(rep),
         "lost_motion": lost_motion(&rep.model).map(|z| json!({"z_max": z, "counts": z / rep.resolution})),
         "base_refit": rep.base_refit,
@@ -184,7 +184,14 @@ fn write_static_level(rep: &Report, s: &mut String) {
             "nothing".into()
         }
     });
-    let _ = if l.raised() {
+    let _ = if l.restored {
+        writeln!(
+            s,
+            "static level: the still axis held {up} (+) and {down} (-) where the model had no Stribeck dip (Fs = Fc = {} N); a dip restored with Fs at the held level, {} N, V and delta refitted: it lowers the held-out model error as a candidate must",
+            short(l.fitted, 4),
+            short(l.written, 4)
+        )
+    } else if l.raised() {
         writeln!(
             s,
             "static level: the still axis held {up} (+) and {down} (-) where the fit put Fs at {} N; Fs written at the held level, {} N, the rest refitted (the residual does not weigh still samples, so nothing else bounds Fs from below)",
@@ -205,7 +212,7 @@ fn write_static_level(rep: &Report, s: &mut String) {
                 100.0 * super::held::MIN_RAISE
             ),
             [true, true] if !fit::has_effect(&rep.model, Effect::Stribeck) => format!(
-                "above the fitted Fs = {fs} N in both directions; Fs left as fitted: the model has no Stribeck dip to raise"
+                "above the fitted Fs = {fs} N in both directions; Fs left as fitted: the model has no Stribeck dip, and one restored at the held level was not sound or did not lower the held-out model error as a candidate must"
             ),
             [true, true] => format!(
                 "above the fitted Fs = {fs} N in both directions; Fs left as fitted: no sound refit with Fs at the held level"
