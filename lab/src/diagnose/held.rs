@@ -273,7 +273,7 @@ mod tests {
                 let a = if s < hold {
                     0.0
                 } else {
-                    -towards(t) * 2e-3 * 0.5 * PI * PI * (PI * (s - hold)).cos()
+                    towards(t) * 2e-3 * 0.5 * PI * PI * (PI * (s - hold)).cos()
                 };
                 f + truth.mass * a
             })
