@@ -72,7 +72,7 @@ pub const WORKFLOW_VERSION: &str = workflow_version!();
 /// `concat!`).
 macro_rules! workflow_version {
     () => {
-        "10.10"
+        "10.11"
     };
 }
 use workflow_version;
@@ -849,7 +849,7 @@ fn run(
     let model = tidy(&p, model);
     let (static_level, pinned) = if start.is_none() && judged {
         show("static level from the held force");
-        let (level, pinned) = pin(&p, &model, floor);
+        let (level, pinned) = pin(&p, &model);
         (Some(level), pinned)
     } else {
         (None, None)

@@ -187,7 +187,7 @@ fn write_static_level(rep: &Report, s: &mut String) {
     let _ = if l.restored {
         writeln!(
             s,
-            "static level: the still axis held {up} (+) and {down} (-) where the model had no Stribeck dip (Fs = Fc = {} N); a dip restored with Fs at the held level, {} N, V and delta refitted: it lowers the held-out model error as a candidate must",
+            "static level: the still axis held {up} (+) and {down} (-) where the model had no Stribeck dip (Fs = Fc = {} N); a dip restored with Fs at the held level, {} N, V and delta refitted (the held-out model error no higher than without it; where the motion does not resolve the dip, V and delta are only the best of the starts)",
             short(l.fitted, 4),
             short(l.written, 4)
         )
@@ -212,7 +212,7 @@ fn write_static_level(rep: &Report, s: &mut String) {
                 100.0 * super::held::MIN_RAISE
             ),
             [true, true] if !fit::has_effect(&rep.model, Effect::Stribeck) => format!(
-                "above the fitted Fs = {fs} N in both directions; Fs left as fitted: the model has no Stribeck dip, and one restored at the held level was not sound or did not lower the held-out model error as a candidate must"
+                "above the fitted Fs = {fs} N in both directions; Fs left as fitted: the model has no Stribeck dip, and one restored at the held level was not sound or raised the held-out model error"
             ),
             [true, true] => format!(
                 "above the fitted Fs = {fs} N in both directions; Fs left as fitted: no sound refit with Fs at the held level"
