@@ -187,7 +187,7 @@ fn write_static_level(rep: &Report, s: &mut String) {
     let _ = if l.restored {
         writeln!(
             s,
-            "static level: the still axis held {up} (+) and {down} (-) where the model had no Stribeck dip (Fs = Fc = {} N); a dip restored with Fs at the held level, {} N, V and delta refitted (the held-out model error no higher than without it; where the motion does not resolve the dip, V and delta are only the best of the starts)",
+            "static level: the still axis held {up} (+) and {down} (-) where the model had no Stribeck dip (Fs = Fc = {} N); a dip restored from the held level (Fs - Fc fixed there, the rest refitted), Fs written {} N (the held-out model error no higher than without it; where the motion does not resolve the dip, V and delta are only the best of the starts)",
             short(l.fitted, 4),
             short(l.written, 4)
         )
