@@ -126,12 +126,15 @@ pub fn pin(p: &Prepared, m: &Model) -> (StaticLevel, Option<Model>) {
         return (level, None);
     }
     let dip = fit::has_effect(m, Effect::Stribeck);
-    let mut with_fs = m.clone();
-    with_fs.fs = target;
-    let params: Vec<Param> = fit::params_of(&with_fs)
-        .into_iter()
-        .filter(|q| *q != Param::FsExcess)
-        .collect();
+    // The parameters of the model with the dip (of `m` itself where it
+    // has one), less its height, which the held level fixes.
+    let params: Vec<Param> = fit::params_of(&Model {
+        fs: target,
+        ..m.clone()
+    })
+    .into_iter()
+    .filter(|q| *q != Param::FsExcess)
+    .collect();
     let sound = |c: &Model| {
         fit::effects_of(c)
             .into_iter()
@@ -235,11 +238,13 @@ mod tests {
     fn held_record() -> (Prepared, Model) {
         let truth = fig5_model();
         let hold = 0.5;
-        let cycle = 2.0 * (1.0 + hold);
+        let period = 1.0 + hold;
+        // Segment `k` of a time: a hold, then a move out (k even) or back.
+        let segment = |t: f64| (t / period).floor() as i64;
+        let towards = |t: f64| if segment(t) % 2 == 0 { 1.0 } else { -1.0 };
         let position = |t: f64| {
-            let k = (t / (1.0 + hold)).floor();
-            let s = t - k * (1.0 + hold);
-            let from = if k as i64 % 2 == 0 { 0.0 } else { 2e-3 };
+            let s = t - segment(t) as f64 * period;
+            let from = if segment(t) % 2 == 0 { 0.0 } else { 2e-3 };
             let to = 2e-3 - from;
             let w = if s < hold {
                 0.0
@@ -248,15 +253,8 @@ mod tests {
             };
             ((from + (to - from) * w) / 1e-6).round() * 1e-6
         };
-        let mut rec = record((4.0 * cycle / 1e-3) as usize, 1e-3, position);
+        let mut rec = record((8.0 * period / 1e-3) as usize, 1e-3, position);
         // Held towards the move that follows the hold.
-        let towards = |t: f64| {
-            if ((t / (1.0 + hold)).floor() as i64) % 2 == 0 {
-                1.0
-            } else {
-                -1.0
-            }
-        };
         rec.u = rec.t.iter().map(|&t| 1.4 * towards(t)).collect();
         let window = Window {
             velocity: 4,
@@ -270,7 +268,7 @@ mod tests {
             .iter()
             .zip(&f)
             .map(|(&t, f)| {
-                let s = t % (1.0 + hold);
+                let s = t % period;
                 let a = if s < hold {
                     0.0
                 } else {
