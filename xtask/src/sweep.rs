@@ -164,6 +164,9 @@ pub struct Scored {
     /// The written model's `Fs` over the true model's, less 1 (`None`
     /// where either is missing).
     pub fs_error: Option<f64>,
+    /// Whether the written model keeps a base part at a bound of its
+    /// range (the report's `kept_at_bound`, version 10.12 on).
+    pub kept_at_bound: bool,
 }
 
 /// Least relative rise of the true model's error when a hidden effect is
@@ -327,6 +330,10 @@ pub struct Report {
     /// The model written.
     #[serde(default)]
     pub model: Option<Levels>,
+    /// Base parts the written model keeps at a bound (absent before
+    /// version 10.12).
+    #[serde(default)]
+    pub kept_at_bound: Vec<serde_json::Value>,
 }
 
 /// Scores the report `report` against the truth `truth` (module doc).
@@ -362,6 +369,7 @@ pub fn score(name: &str, truth: Truth, report: Result<Report, String>) -> Scored
             true_model_error: None,
             without_error: Vec::new(),
             fs_error: None,
+            kept_at_bound: false,
         },
         Ok(rep) => {
             let named = rep.effects_added;
@@ -390,6 +398,7 @@ pub fn score(name: &str, truth: Truth, report: Result<Report, String>) -> Scored
                 true_model_error: None,
                 without_error: Vec::new(),
                 fs_error,
+                kept_at_bound: !rep.kept_at_bound.is_empty(),
             }
         }
     }
@@ -741,6 +750,9 @@ pub struct Summary {
     pub false_positives: usize,
     /// The written `Fs` against the truth's.
     pub fs_written: FsAccuracy,
+    /// Records whose written model keeps a base part at a bound, and how
+    /// many of them succeed.
+    pub kept_at_bound: KeptAtBound,
     /// Median gap shrink of the records with hidden effects (null if none).
     pub median_shrink: f64,
     /// Records not named exactly with the gap halved.
@@ -798,6 +810,27 @@ impl FsAccuracy {
             p90_abs_error: rank(0.9),
             median_abs_error: median(abs),
             records: errors.len(),
+        }
+    }
+}
+
+/// Records whose written model keeps a base part at a bound of its range
+/// (`diagnose`'s `kept_at_bound`): a shape the record needs at a value its
+/// range does not admit, where the named effects may stand in for others.
+#[derive(Debug, Serialize)]
+pub struct KeptAtBound {
+    /// Such records.
+    pub records: usize,
+    /// Of them, named exactly with the gap halved.
+    pub successes: usize,
+}
+
+impl KeptAtBound {
+    fn of(scored: &[Scored]) -> Self {
+        let kept: Vec<&Scored> = scored.iter().filter(|s| s.kept_at_bound).collect();
+        KeptAtBound {
+            records: kept.len(),
+            successes: kept.iter().filter(|s| s.success()).count(),
         }
     }
 }
@@ -1038,6 +1071,7 @@ pub fn summary(scored: &[Scored]) -> Summary {
             .collect(),
         false_positives: nulls.iter().filter(|s| !s.named.is_empty()).count(),
         fs_written: FsAccuracy::of(scored),
+        kept_at_bound: KeptAtBound::of(scored),
         median_shrink: median(scored.iter().filter_map(|s| s.shrink).collect()),
         misses_by_cause: MissCauses::count(misses.iter().map(|m| m.cause)),
         misses,
@@ -1401,6 +1435,7 @@ mod tests {
             true_model_error: None,
             without_error: Vec::new(),
             fs_error: None,
+            kept_at_bound: false,
         }
     }
 
@@ -1557,6 +1592,9 @@ mod tests {
         // measured.
         s3.without_error = vec![("offset".into(), Some(0.612)), ("drift".into(), None)];
         s3.fs_error = Some(-0.5);
+        // s1 (a success) and s3 (a miss) keep a base part at a bound.
+        s1.kept_at_bound = true;
+        s3.kept_at_bound = true;
         let mut s2 = scored("s2", "model", &[], &["viscous"], None);
         s2.fs_error = Some(0.01);
         let records = [s1, s2, s3, failed];
@@ -1593,6 +1631,10 @@ mod tests {
     "median_abs_error": 0.045,
     "p90_abs_error": 0.08,
     "records": 2
+  },
+  "kept_at_bound": {
+    "records": 2,
+    "successes": 1
   },
   "median_shrink": 0.475,
   "misses": [

@@ -72,7 +72,7 @@ pub const WORKFLOW_VERSION: &str = workflow_version!();
 /// `concat!`).
 macro_rules! workflow_version {
     () => {
-        "10.11"
+        "10.12"
     };
 }
 use workflow_version;
@@ -267,6 +267,14 @@ pub struct Report {
     /// (e.g. `stribeck`: V at its bound; `nonlinear_viscous` at n ≈ 1,
     /// written as `viscous`).
     pub dropped: Vec<(Effect, String)>,
+    /// Parts of the base structure that the written model holds at a
+    /// bound of their range or at a value the record cannot resolve
+    /// ([`degenerate`]), kept because the model without them is clearly
+    /// worse ([`DEGENERATE_KEEP`]): (part, why, held-out model error [N]
+    /// without it, refitted). Issue 10 asks that such a part be dropped;
+    /// where the record needs the shape it stays, and is reported here
+    /// (version 10.12), not hidden in the model's numbers.
+    pub kept_at_bound: Vec<(Effect, String, f64)>,
     /// Why the base's presliding part was fitted again before the
     /// candidates (first fitted into a local minimum), with the held-out
     /// figures; `None` when it was not (`BaseFix`).
@@ -861,9 +869,11 @@ fn run(
         }
         None => (model, rms, r),
     };
+    let kept_at_bound = kept_at_bound(&p, &model, floor);
     progress.finish();
     let still = p.valid().filter(|&i| p.still[i]).count();
     Report {
+        kept_at_bound,
         dwell_rests: selection::dwell_rests(&p, &model),
         pruned,
         swapped,
@@ -906,6 +916,23 @@ fn run(
         residual_before,
         t: p.t.clone(),
     }
+}
+
+/// The base parts (`stribeck`, `presliding`) that `m`, the written model,
+/// holds degenerate ([`degenerate`]), each with why and the held-out model
+/// error [N] above `floor` of `m` refitted without it
+/// ([`Report::kept_at_bound`]). [`simplify`] kept them because that error
+/// is more than [`DEGENERATE_KEEP`] above `m`'s; the refit is done again
+/// here, on the model as written (the static level may have moved it).
+fn kept_at_bound(p: &Prepared, m: &Model, floor: f64) -> Vec<(Effect, String, f64)> {
+    [Effect::Stribeck, Effect::Presliding]
+        .into_iter()
+        .filter_map(|part| {
+            let why = degenerate(p, m, part)?;
+            let without = held_rms(p, &refit_without(p, m, part)).0;
+            Some((part, why, residual::model_error(without, floor)))
+        })
+        .collect()
 }
 
 #[cfg(test)]
@@ -1140,9 +1167,10 @@ mod tests {
     }
 
     /// A ripple longer than the travel is degenerate (a trend in position),
-    /// one of three periods over it is not.
+    /// one of three periods over it is not; so is one shorter than
+    /// [`RIPPLE_MIN_COUNTS`] encoder counts.
     #[test]
-    fn a_ripple_longer_than_the_travel_is_degenerate() {
+    fn a_ripple_longer_than_the_travel_or_shorter_than_a_few_counts_is_degenerate() {
         let p = sinusoid(20_000, 30e-3, 0.5);
         let with = |wavelength: f64| {
             let mut m = fig5_model();
@@ -1156,6 +1184,28 @@ mod tests {
         assert!(with(p.travel() / 3.0).is_none());
         let why = with(1.2 * p.travel()).expect("a trend, not a ripple");
         assert!(why.contains("longer than the travel"), "{why}");
+        // Below four counts of the encoder (1 µm here) the phase at a
+        // sample is not known to a quarter period.
+        assert!(with(4.5e-6).is_none());
+        let why = with(1.9e-6).expect("not resolved by the encoder");
+        assert!(why.contains("does not resolve it"), "{why}");
+    }
+
+    /// The written model's degenerate base parts are listed with the
+    /// model error without them; sound ones are not.
+    #[test]
+    fn a_dip_at_a_bound_in_the_written_model_is_reported() {
+        let p = sinusoid(4000, 2e-3, 3.0);
+        let sound = fig5_model();
+        assert!(kept_at_bound(&p, &sound, 0.0).is_empty());
+        let mut flat = sound.clone();
+        flat.delta = fit::DELTA_RANGE.0;
+        let kept = kept_at_bound(&p, &flat, 0.0);
+        assert_eq!(kept.len(), 1, "{kept:?}");
+        let (part, why, without) = &kept[0];
+        assert_eq!(*part, Effect::Stribeck);
+        assert!(why.contains("at a bound"), "{why}");
+        assert!(without.is_finite() && *without >= 0.0, "{without}");
     }
 
     /// A dip at the top of its range is degenerate, a candidate that runs

@@ -163,6 +163,11 @@ pub fn report_json(rep: &Report) -> String {
     });
     // Beside the object above, which is at `json!`'s recursion limit.
     v["version"] = json!(super::WORKFLOW_VERSION);
+    v["kept_at_bound"] = rep
+        .kept_at_bound
+        .iter()
+        .map(|(n, why, without)| json!({"part": n.name(), "reason": why, "rms_without": without}))
+        .collect();
     let mut s = serde_json::to_string_pretty(&v).unwrap_or_else(|_| "{}".into());
     s.push('\n');
     s
@@ -360,6 +365,14 @@ fn write_measurement(rep: &Report, source: &str, s: &mut String) {
         let _ = writeln!(
             s,
             "base shape identified again with the named effects in place: {why}"
+        );
+    }
+    for (part, why, without) in &rep.kept_at_bound {
+        let _ = writeln!(
+            s,
+            "kept at a bound: `{part}` ({why}); without it the held-out model error is {} N against {} N with it, so the record needs the shape, but not at a value inside its range: the named effects may stand in for others (a look-alike, or an effect the catalogue lacks)",
+            short(*without, 4),
+            short(rep.rms_after, 4)
         );
     }
     if fit::mass_at_bound(&rep.model) {

@@ -398,13 +398,20 @@ pub fn degenerate(p: &Prepared, m: &Model, effect: Effect) -> Option<String> {
         }),
         Effect::NonlinearViscous => nonlinear_viscous_degenerate(m),
         Effect::PositionRipple => m.effects.position_ripple.and_then(|r| {
-            (r.wavelength > RIPPLE_MAX_TRAVELS * p.travel()).then(|| {
-                format!(
+            if r.wavelength > RIPPLE_MAX_TRAVELS * p.travel() {
+                Some(format!(
                     "wavelength = {:.3e} m is longer than the travel ({:.3e} m): a trend in position, not a ripple",
                     r.wavelength,
                     p.travel()
-                )
-            })
+                ))
+            } else if r.wavelength < RIPPLE_MIN_COUNTS * p.resolution {
+                Some(format!(
+                    "wavelength = {:.3e} m is shorter than {RIPPLE_MIN_COUNTS} encoder counts ({:.3e} m): the encoder does not resolve it",
+                    r.wavelength, p.resolution
+                ))
+            } else {
+                None
+            }
         }),
         Effect::FrictionalLag => m.effects.frictional_lag.and_then(|l| {
             (near(l.tau_l, 1e-3) || near(l.tau_l, 100.0))
@@ -432,6 +439,20 @@ pub fn degenerate(p: &Prepared, m: &Model, effect: Effect) -> Option<String> {
 /// are at most 0.36 travels long (the generator puts three periods or
 /// more over the travel).
 pub const RIPPLE_MAX_TRAVELS: f64 = 1.0;
+
+/// Shortest wavelength of a `position_ripple` that is a finding, in
+/// encoder counts (version 10.12). The position of a sample is known to a
+/// count, so the ripple's phase at it only to `±π·q/λ`: a quarter period
+/// per count at four counts, and below two counts a sine in `x` aliases
+/// onto a longer one. Chosen from that bound, not from the records; the
+/// wavelength scan starts at 50 counts (`ripple_scan`)
+/// but its refinement is free: on the effect-free slow sinusoid 10600059
+/// (mixed draw 10600000–, version 10.11; 826 moving samples of 20 636) it
+/// ran to 1.9 counts, with an amplitude of 0.30 N against the model's
+/// `Fc` of 0.28 N, and was named. The 17 ripples named on that draw where
+/// the generator hid one are 322 counts long or more (the generator puts
+/// 20 counts or more in a period).
+pub const RIPPLE_MIN_COUNTS: f64 = 4.0;
 
 /// Least cosine of the angle between a `position_ripple`'s sine and
 /// cosine coefficients fitted over each direction of motion apart
