@@ -921,9 +921,10 @@ fn run(
 /// The base parts (`stribeck`, `presliding`) that `m`, the written model,
 /// holds degenerate ([`degenerate`]), each with why and the held-out model
 /// error [N] above `floor` of `m` refitted without it
-/// ([`Report::kept_at_bound`]). [`simplify`] kept them because that error
-/// is more than [`DEGENERATE_KEEP`] above `m`'s; the refit is done again
-/// here, on the model as written (the static level may have moved it).
+/// ([`Report::kept_at_bound`]). [`simplify`] keeps a degenerate part
+/// where the model without it is more than [`DEGENERATE_KEEP`] worse; the
+/// refit is done again here, on the model as written (the static level
+/// may have moved it since).
 fn kept_at_bound(p: &Prepared, m: &Model, floor: f64) -> Vec<(Effect, String, f64)> {
     [Effect::Stribeck, Effect::Presliding]
         .into_iter()

@@ -445,13 +445,13 @@ pub const RIPPLE_MAX_TRAVELS: f64 = 1.0;
 /// count, so the ripple's phase at it only to `±π·q/λ`: a quarter period
 /// per count at four counts, and below two counts a sine in `x` aliases
 /// onto a longer one. Chosen from that bound, not from the records; the
-/// wavelength scan starts at 50 counts (`ripple_scan`)
-/// but its refinement is free: on the effect-free slow sinusoid 10600059
-/// (mixed draw 10600000–, version 10.11; 826 moving samples of 20 636) it
-/// ran to 1.9 counts, with an amplitude of 0.30 N against the model's
-/// `Fc` of 0.28 N, and was named. The 17 ripples named on that draw where
-/// the generator hid one are 322 counts long or more (the generator puts
-/// 20 counts or more in a period).
+/// wavelength scan starts at 50 counts (`ripple_scan`) but its refinement
+/// is free: on the effect-free slow sinusoid 10600059 (mixed draw
+/// 10600000–, version 10.11; 826 moving samples of 20 636) it ran to 1.9
+/// counts, with an amplitude of 0.30 N against the model's `Fc` of
+/// 0.28 N, and was named. The 17 ripples named on that draw where the
+/// generator hid one are 322 counts long or more (the generator puts 20
+/// counts or more in a period).
 pub const RIPPLE_MIN_COUNTS: f64 = 4.0;
 
 /// Least cosine of the angle between a `position_ripple`'s sine and
