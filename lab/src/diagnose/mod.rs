@@ -72,7 +72,7 @@ pub const WORKFLOW_VERSION: &str = workflow_version!();
 /// `concat!`).
 macro_rules! workflow_version {
     () => {
-        "10.12"
+        "10.13"
     };
 }
 use workflow_version;
@@ -1567,6 +1567,25 @@ mod tests {
         // named `viscous` there).
         assert!(nested_prefers(nv, 0.0, 0.0));
         assert!(!nested_prefers(Effect::Viscous, 0.0, 0.0));
+    }
+
+    /// The swap pass between the nested pair: the round's rule, and the
+    /// general form only with a lower BIC. On the suite-like 10700005 both
+    /// forms were at the floor (model errors 0) and `viscous` had the lower
+    /// BIC: it stays. Elsewhere the BIC alone decides.
+    #[test]
+    fn the_swap_to_the_general_form_needs_a_lower_bic() {
+        let (v, nv) = (Effect::Viscous, Effect::NonlinearViscous);
+        assert!(!swap_takes(v, nv, [0.0, 0.0], [-66951.1, -66860.9]));
+        assert!(swap_takes(v, nv, [0.0, 0.0], [-66860.9, -66951.1]));
+        assert!(!swap_takes(v, nv, [0.1538, 0.1459], [-10.0, -20.0]));
+        assert!(swap_takes(v, nv, [0.0364, 0.0], [-10.0, -20.0]));
+        // Back to `viscous`: its round's rule alone (fewer parameters).
+        assert!(swap_takes(nv, v, [0.1459, 0.1538], [-20.0, -10.0]));
+        assert!(!swap_takes(nv, v, [0.0, 0.0364], [-20.0, -10.0]));
+        let (offset, asymmetry) = (Effect::Offset, Effect::Asymmetry);
+        assert!(swap_takes(offset, asymmetry, [0.1, 0.2], [-20.0, -30.0]));
+        assert!(!swap_takes(offset, asymmetry, [0.2, 0.1], [-30.0, -20.0]));
     }
 
     /// A presliding distance over a quarter of the position range (4 mm

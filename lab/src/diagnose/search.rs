@@ -340,19 +340,12 @@ impl<'a> Search<'a> {
                     })
                     .collect();
                 // Between `viscous` and `nonlinear_viscous` the rule of their
-                // round decides ([`nested_prefers`]), not the BIC alone: on
-                // the suite-like 6000102 (`viscous` hidden; draw 6000000–,
-                // version 9.4) this pass took `nonlinear_viscous` for a model
-                // error 5 % below `viscous`'s, where its round had kept
-                // `viscous`.
+                // round decides too ([`swap_takes`]).
                 let error = |x: f64| residual::model_error(x, self.floor);
                 let mut best: Option<(f64, Effect, Model)> = None;
                 for (b, a_rms, alt, fitted) in fits.into_iter().flatten() {
-                    let better = if nested(effect, alt) {
-                        nested_prefers(alt, error(a_rms), error(self.rms))
-                    } else {
-                        b < bic_cur
-                    };
+                    let better =
+                        swap_takes(effect, alt, [error(self.rms), error(a_rms)], [bic_cur, b]);
                     if better && best.as_ref().is_none_or(|(bb, _, _)| b < *bb) {
                         best = Some((b, alt, fitted));
                     }
@@ -375,8 +368,8 @@ impl<'a> Search<'a> {
         let p = self.p;
         // `viscous` is `nonlinear_viscous` at n = 1: with the other steps in
         // place, the general form is fitted again from the final model (see
-        // [`nonlinear_in_place_of_viscous`]) and taken by the rule its round
-        // uses ([`nested_prefers`]) with a lower held-out BIC.
+        // [`nonlinear_in_place_of_viscous`]) and taken by the swap pass's
+        // rule ([`swap_takes`]: its round's, with a lower held-out BIC).
         if !fit::has_effect(&self.model, Effect::NonlinearViscous)
             && allowed(Effect::NonlinearViscous)
         {
@@ -387,16 +380,9 @@ impl<'a> Search<'a> {
                     let errors = [self.rms, new_rms].map(|x| residual::model_error(x, self.floor));
                     let bic_cur = bic(p, self.rms, fit::params_of(&self.model).len());
                     let bic_new = bic(p, new_rms, fit::params_of(&m).len());
-                    if nested_prefers(Effect::NonlinearViscous, errors[1], errors[0])
-                        && bic_new < bic_cur
-                    {
-                        swap_step(
-                            step,
-                            Effect::NonlinearViscous,
-                            &m,
-                            errors,
-                            &mut self.swapped,
-                        );
+                    let nv = Effect::NonlinearViscous;
+                    if swap_takes(Effect::Viscous, nv, errors, [bic_cur, bic_new]) {
+                        swap_step(step, nv, &m, errors, &mut self.swapped);
                         self.model = m;
                         self.rms = new_rms;
                         self.r = new_r;
