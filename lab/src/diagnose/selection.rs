@@ -333,7 +333,8 @@ pub fn nested_prefers(to: Effect, error_to: f64, error_from: f64) -> bool {
 /// model as it stands (index 0) and with `alt` in its place (index 1): a
 /// lower BIC; between `viscous` and `nonlinear_viscous` the rule of their
 /// round ([`nested_prefers`]), and the general form must lower the BIC
-/// too, as in the nested check of a final model.
+/// too. The nested check of a final model (`Search::nested_viscous`)
+/// decides by this function as well.
 ///
 /// The BIC alone took `nonlinear_viscous` for a model error 5 % below
 /// `viscous`'s on the suite-like 6000102 (version 9.4), where its round
