@@ -20,8 +20,10 @@
 //! 4. **Selection** (`selection.rs`): the best candidate is accepted only if
 //!    its BIC is lower **and** it lowers the held-out RMS by at least
 //!    [`ACCEPT_GAIN`] above the floor (see there for why both) **and**
-//!    removes [`MIN_GAP_SHARE`] of the gap; repeated until none is, then
-//!    a backward and a swap pass. The search's stages, in the order
+//!    removes [`MIN_GAP_SHARE`] of the gap (an effect that acts in a part
+//!    of the moves only may show that gain where it acts,
+//!    [`gain_where_acting`]); repeated until none is, then a backward and
+//!    a swap pass. The search's stages, in the order
 //!    [`diagnose`] runs them, are the methods of `Search` (`search.rs`).
 //!    The names settled, the model's `Fs` is checked against what the
 //!    still samples held, and written at the held level where the fit put
@@ -72,7 +74,7 @@ pub const WORKFLOW_VERSION: &str = workflow_version!();
 /// `concat!`).
 macro_rules! workflow_version {
     () => {
-        "10.13"
+        "10.14"
     };
 }
 use workflow_version;
@@ -157,6 +159,10 @@ pub struct Step {
     /// The signal that localises this effect, and the fraction of the
     /// residual (before the step) it explains.
     pub signal: (String, f64),
+    /// The gain above the floor where the effect acts
+    /// ([`gain_where_acting`]), when that and not its gain over all moving
+    /// samples named it (forward) or kept it (backward check).
+    pub where_acting: Option<f64>,
     /// Every candidate of the round, best first.
     pub candidates: Vec<Candidate>,
     /// The round's candidates whose fit ran the Stribeck dip to its bound
@@ -1086,6 +1092,55 @@ mod tests {
         assert!(!ripple_coherent(&q, &truth));
     }
 
+    /// Rests of `rests` samples, each followed by a move of `moving`
+    /// samples whose `j`-th advances by `step(j)` [m] (alternating in
+    /// direction), and a last rest of 0.2 s, at 1 kHz, quantised to 1 µm;
+    /// with the force of `truth` along the measured motion (an in-model
+    /// record), or none.
+    fn rest_record(
+        rests: &[usize],
+        (moving, step): (usize, &dyn Fn(usize) -> f64),
+        truth: Option<&Model>,
+    ) -> Prepared {
+        let mut x = Vec::new();
+        let mut at = 0.0;
+        for (k, &rest) in rests.iter().enumerate() {
+            x.extend(std::iter::repeat_n(at, rest));
+            let dir = if k % 2 == 0 { 1.0 } else { -1.0 };
+            for j in 0..moving {
+                at += dir * step(j);
+                x.push((at / 1e-6_f64).round() * 1e-6);
+            }
+        }
+        x.extend(std::iter::repeat_n(at, 200));
+        let t: Vec<f64> = (0..x.len()).map(|i| i as f64 * 1e-3).collect();
+        along(&t, &x, truth)
+    }
+
+    /// The record of the motion `x` [m] at the times `t` [s], with the
+    /// force of `truth` along the measured motion (`m·a` and the lab's own
+    /// walk: an in-model record), or none.
+    fn along(t: &[f64], x: &[f64], truth: Option<&Model>) -> Prepared {
+        let window = Window {
+            velocity: 4,
+            force: 32,
+        };
+        let record = |u: Vec<f64>| Record {
+            u,
+            t: t.to_vec(),
+            x: x.to_vec(),
+            v: None,
+            source: "test".into(),
+        };
+        let p0 = Prepared::with_window(&record(vec![0.0; t.len()]), window);
+        let Some(truth) = truth else {
+            return p0;
+        };
+        let f = p0.friction(truth);
+        let u = (0..t.len()).map(|i| truth.mass * p0.a[i] + f[i]).collect();
+        Prepared::with_window(&record(u), window)
+    }
+
     /// The dwell term counts where the break-away depends on the rest
     /// length: with γ far below every rest its factor is near 1 after each
     /// of them (no spread), with γ far above them it grows in proportion to
@@ -1093,33 +1148,8 @@ mod tests {
     #[test]
     fn dwell_counts_where_the_factor_follows_the_rest_length() {
         // Rests of 0.2, 0.5 and 1.0 s, each followed by a 2 mm move at
-        // 10 mm/s, at 1 kHz, quantised to 1 µm.
-        let mut x = Vec::new();
-        let mut at = 0.0;
-        for (k, rest) in [200, 500, 1000].into_iter().enumerate() {
-            x.extend(std::iter::repeat_n(at, rest));
-            let dir = if k % 2 == 0 { 1.0 } else { -1.0 };
-            for _ in 0..200 {
-                at += dir * 1e-5;
-                x.push((at / 1e-6_f64).round() * 1e-6);
-            }
-        }
-        x.extend(std::iter::repeat_n(at, 200));
-        let t: Vec<f64> = (0..x.len()).map(|i| i as f64 * 1e-3).collect();
-        let rec = Record {
-            u: vec![0.0; t.len()],
-            t,
-            x,
-            v: None,
-            source: "test".into(),
-        };
-        let p = Prepared::with_window(
-            &rec,
-            Window {
-                velocity: 4,
-                force: 32,
-            },
-        );
+        // 10 mm/s.
+        let p = rest_record(&[200, 500, 1000], (200, &|_| 1e-5), None);
         let with_gamma = |gamma: f64| {
             let mut m = fig5_model();
             m.effects.dwell_stiction = Some(DwellStiction {
@@ -1165,6 +1195,57 @@ mod tests {
         assert_eq!(gamma, cap);
         assert!(degenerate(&p, &far, Effect::DwellStiction).is_none());
         assert!(degenerate(&p, &with_gamma(100.0), Effect::DwellStiction).is_some());
+    }
+
+    /// A dwell term acts in the first milliseconds of the moves after the
+    /// rests only: measured there, its gain above a floor is larger than
+    /// over all moving samples, and reaches the required gain where the
+    /// gain over all moving samples falls short, where the rest length
+    /// decides its raise. On a record without it, it gains nothing where it
+    /// acts; an effect that acts everywhere has no local gain.
+    #[test]
+    fn a_dwell_term_is_judged_where_it_acts() {
+        let rests = [200, 500, 1000, 300, 800, 400, 600, 1000, 250, 700, 350, 900];
+        let base = fig5_model();
+        let mut truth = base.clone();
+        truth.effects.dwell_stiction = Some(DwellStiction {
+            delta_fs: 0.5,
+            gamma: 0.5,
+            v_rest: 1e-4,
+        });
+        // Moves of 4 mm in 0.4 s, at up to 20 mm/s (a sin² speed profile).
+        let smooth = |j: usize| 2e-5 * (std::f64::consts::PI * j as f64 / 400.0).sin().powi(2);
+        let mut p = rest_record(&rests, (400, &smooth), Some(&truth));
+        // A per-sample force noise of 1 mN (the record has none).
+        p.sigma0 = 1e-3 * p.kernel_norm();
+        let overall = held_rms(&p, &base).0;
+        let dwell = Effect::DwellStiction;
+        // A floor at 90 % of the base's held-out rms: over all moving
+        // samples the dwell term gains 10 % above it, where it acts 39 %.
+        let floor = 0.9 * overall;
+        let all = gain_above_floor(overall, held_rms(&p, &truth).0, floor);
+        let there = gain_where_acting(&p, &base, &truth, floor);
+        assert!(
+            all < required_gain(dwell) && there > 3.0 * all,
+            "{all} {there}"
+        );
+        assert_eq!(local_gain(&p, dwell, &base, &truth, floor), Some(there));
+        assert_eq!(local_gain(&p, Effect::Viscous, &base, &truth, floor), None);
+        // Judged so only where the rest length decides the raise: γ = 0.5 s
+        // spreads 0.57 over rests of 0.2–1.0 s, γ = 50 ms only 0.16.
+        let mut short = truth.clone();
+        short.effects.dwell_stiction = Some(DwellStiction {
+            gamma: 0.05,
+            ..truth.effects.dwell_stiction.expect("dwell")
+        });
+        assert!(judged_where_acting(&p, dwell, &truth));
+        assert!(!judged_where_acting(&p, dwell, &short));
+        assert!(!judged_where_acting(&p, Effect::Viscous, &truth));
+        assert_eq!(gain_where_acting(&p, &base, &base, floor), 0.0);
+        // The same moves without it: the dwell term only adds error.
+        let q = rest_record(&rests, (400, &smooth), Some(&base));
+        assert!(gain_where_acting(&q, &base, &truth, 0.0) < 0.0);
+        assert_eq!(local_gain(&q, dwell, &base, &truth, 0.0), None);
     }
 
     /// A ripple longer than the travel is degenerate (a trend in position),
@@ -1350,21 +1431,7 @@ mod tests {
             x += v * 1e-3;
             xs.push((x / 1e-6).round() * 1e-6);
         }
-        let window = Window {
-            velocity: 4,
-            force: 32,
-        };
-        let record = |u: Vec<f64>| Record {
-            u,
-            t: t.clone(),
-            x: xs.clone(),
-            v: None,
-            source: "test".into(),
-        };
-        let p0 = Prepared::with_window(&record(vec![0.0; t.len()]), window);
-        let f = p0.friction(truth);
-        let u = (0..t.len()).map(|i| truth.mass * p0.a[i] + f[i]).collect();
-        Prepared::with_window(&record(u), window)
+        along(&t, &xs, Some(truth))
     }
 
     /// The plateau record of the Fig. 5 model with `nonlinear_viscous`

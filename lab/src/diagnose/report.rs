@@ -106,6 +106,7 @@ pub fn report_json(rep: &Report) -> String {
             j["signal_explained"] = json!(s.signal.1);
             j["tied_with"] = json!(tied_look_alike(s, rep.floor).map(|(e, _, _)| e.name()));
             j["joint_with"] = json!(s.joint.map(Effect::name));
+            j["gain_where_acting"] = json!(s.where_acting);
             j
         })
         .collect();
@@ -459,6 +460,14 @@ fn write_step(rep: &Report, k: usize, st: &Step, s: &mut String) {
             s,
             "        fitted together with `{other}`: neither passed alone (model error alone: {}; the step's figures are the pair's)",
             alone.join(", ")
+        );
+    }
+    if let Some(g) = st.where_acting {
+        let _ = writeln!(
+            s,
+            "        named on its gain where it acts: {:.0} % above the floor on the held-out moves where it changes the force by more than the noise (over all moves its gain is diluted below {:.1} %)",
+            100.0 * g,
+            100.0 * required_gain(st.effect)
         );
     }
     if let Some((other, mine, theirs)) = tied_look_alike(st, rep.floor) {

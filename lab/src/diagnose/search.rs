@@ -117,9 +117,15 @@ impl<'a> Search<'a> {
                 self.floor = low;
             }
             prefer_nested(&mut cands, self.floor);
-            let accept = cands.first().is_some_and(|c| {
-                c.score < 0.0 && enough_gain(c.effect, self.rms, c.rms, self.floor)
-            });
+            let first = cands.first().filter(|c| c.score < 0.0);
+            let overall = first.is_some_and(|c| enough_gain(c.effect, self.rms, c.rms, self.floor));
+            // Short of the gain over all moving samples, an effect that acts
+            // in a part of the moves only is named on its gain there (see
+            // [`gain_where_acting`]), with the same share of the gap.
+            let where_acting = first
+                .filter(|c| !overall && gap_share(self.rms, c.rms, self.floor) >= MIN_GAP_SHARE)
+                .and_then(|c| local_gain(p, c.effect, &self.model, &c.model, self.floor));
+            let accept = overall || where_acting.is_some();
             // Neither alone: the best pair of the round's leaders, if one
             // passes (see [`best_pair`]).
             let pair = if accept
@@ -158,6 +164,7 @@ impl<'a> Search<'a> {
                 score: best.score,
                 model: best.model.clone(),
                 signal: sig_of(best.effect),
+                where_acting: where_acting.filter(|_| joint.is_none()),
                 candidates: cands,
                 held_back,
                 residual_before: self.r.clone(),
@@ -266,7 +273,18 @@ impl<'a> Search<'a> {
                 // without an effect starts from the final model and often ends
                 // below the step's own start, so a real effect (a ripple of 73×
                 // the noise) would cost less than a quarter of that gap.
-                if gain_above_floor(w_rms, self.rms, self.floor) < required_gain(effect) {
+                // An effect that acts in a part of the moves only stays on
+                // its gain there, as forward (see [`gain_where_acting`]).
+                let short = gain_above_floor(w_rms, self.rms, self.floor) < required_gain(effect);
+                let kept_where_acting = if short {
+                    local_gain(p, effect, &refit, &self.model, self.floor)
+                } else {
+                    None
+                };
+                if let Some(g) = kept_where_acting {
+                    self.steps[k].where_acting = Some(g);
+                    k += 1;
+                } else if short {
                     self.pruned.push((
                         effect,
                         residual::model_error(w_rms, self.floor),
