@@ -168,7 +168,21 @@ pub fn judged_where_acting(p: &Prepared, effect: Effect, with: &Model) -> bool {
 /// with the effect) measured only where the effect acts: the held-out
 /// moving samples at which the two models' friction differs by more than
 /// the per-sample force noise (`σ0/‖W‖`, as [`visibility`]), with the
-/// same weights as every held-out rms. 0 where it acts nowhere.
+/// same weights as every held-out rms, above the floor there: `floor`
+/// [N] (the search's, over all held-out samples) scaled by the ratio of
+/// the measurement floor over those samples to the one over all
+/// ([`Prepared::floor`]). 0 where it acts nowhere.
+///
+/// The floor where it acts since version 10.15. The measurement floor of
+/// a sample has a resolution part that follows the force's slope there
+/// (`|∂F/∂x|·q` near a turning point or a break-away), so the samples
+/// where a dwell term acts, in the slow start of the moves after rests,
+/// do not share the floor of all samples. 10.14 measured the gain there
+/// above the floor of all samples, and on its
+/// fresh draws it named `dwell_stiction` on the effect-free servo record
+/// 11100024 (ΔFs 34.7 N on an axis of Fc 35.4 N, a gap of 0.0012 N
+/// against a floor of 0.016 N) and beside `viscous` and `frictional_lag`
+/// on the ramps record 11200049, both clean with 10.13.
 ///
 /// Version 10.14, for the effects [`judged_where_acting`]: a
 /// `dwell_stiction` candidate must lower the held-out rms by
@@ -184,16 +198,23 @@ pub fn gain_where_acting(p: &Prepared, without: &Model, with: &Model, floor: f64
     let noise = p.sigma0 / p.kernel_norm();
     let (f0, f1) = (p.friction(without), p.friction(with));
     let (r0, r1) = (p.residual(without), p.residual(with));
-    let (mut s0, mut s1, mut w) = (0.0, 0.0, 0.0);
+    let (mut s0, mut s1, mut fv, mut w) = (0.0, 0.0, 0.0, 0.0);
     for i in p.valid() {
         if p.held_out[i] && !p.still[i] && (f1[i] - f0[i]).abs() > noise {
             s0 += p.weight[i] * r0[i] * r0[i];
             s1 += p.weight[i] * r1[i] * r1[i];
+            fv += p.weight[i] * p.floor_var[i];
             w += p.weight[i];
         }
     }
     if w > 0.0 {
-        gain_above_floor((s0 / w).sqrt(), (s1 / w).sqrt(), floor)
+        let all = p.floor(Some(true));
+        let here = if all > 0.0 {
+            floor * (fv / w).sqrt() / all
+        } else {
+            floor
+        };
+        gain_above_floor((s0 / w).sqrt(), (s1 / w).sqrt(), here)
     } else {
         0.0
     }
