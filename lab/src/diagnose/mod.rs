@@ -1201,7 +1201,7 @@ mod tests {
     /// rests only: measured there, its gain above a floor is larger than
     /// over all moving samples, and reaches the required gain where the
     /// gain over all moving samples falls short, where the rest length
-    /// decides its raise. On a record without it, it gains nothing where it
+    /// decides its raise; above the floor of those samples. On a record without it, it gains nothing where it
     /// acts; an effect that acts everywhere has no local gain.
     #[test]
     fn a_dwell_term_is_judged_where_it_acts() {
@@ -1230,6 +1230,18 @@ mod tests {
             "{all} {there}"
         );
         assert_eq!(local_gain(&p, dwell, &base, &truth, floor), Some(there));
+        // Above the floor where it acts: the same where every sample has
+        // the same measurement floor, less where those samples' floor is
+        // twice that of the others.
+        let (f0, f1) = (p.friction(&base), p.friction(&truth));
+        let acts: Vec<bool> = (0..p.len()).map(|i| (f1[i] - f0[i]).abs() > 1e-3).collect();
+        p.floor_var = vec![1e-6; p.len()];
+        let even = gain_where_acting(&p, &base, &truth, floor);
+        assert!((even - there).abs() < 1e-12, "{even} {there}");
+        p.floor_var = acts.iter().map(|&a| if a { 4e-6 } else { 1e-6 }).collect();
+        let coarse = gain_where_acting(&p, &base, &truth, floor);
+        assert!(coarse < 0.9 * there, "{coarse} {there}");
+        p.floor_var = vec![0.0; p.len()];
         assert_eq!(local_gain(&p, Effect::Viscous, &base, &truth, floor), None);
         // Judged so only where the rest length decides the raise: γ = 0.5 s
         // spreads 0.57 over rests of 0.2–1.0 s, γ = 50 ms only 0.16.

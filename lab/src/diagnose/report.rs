@@ -465,7 +465,7 @@ fn write_step(rep: &Report, k: usize, st: &Step, s: &mut String) {
     if let Some(g) = st.where_acting {
         let _ = writeln!(
             s,
-            "        named on its gain where it acts: {:.0} % above the floor on the held-out moves where it changes the force by more than the noise (over all moves its gain is diluted below {:.1} %)",
+            "        named on its gain where it acts: {:.0} % above the floor there, on the held-out moves where it changes the force by more than the noise (over all moves its gain is diluted below {:.1} %)",
             100.0 * g,
             100.0 * required_gain(st.effect)
         );

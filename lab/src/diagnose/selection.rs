@@ -178,13 +178,13 @@ pub fn judged_where_acting(p: &Prepared, effect: Effect, with: &Model) -> bool {
 /// (`|∂F/∂x|·q` near a turning point or a break-away), so the samples
 /// where a dwell term acts, in the slow start of the moves after rests,
 /// do not share the floor of all samples. 10.14 measured the gain there
-/// above the floor of all samples, and on its
-/// fresh draws it named `dwell_stiction` on the effect-free servo record
-/// 11100024 (ΔFs 34.7 N on an axis of Fc 35.4 N, a gap of 0.0012 N
-/// against a floor of 0.016 N) and beside `viscous` and `frictional_lag`
-/// on the ramps record 11200049, both clean with 10.13.
+/// above the floor of all samples, and on its fresh draws it named
+/// `dwell_stiction` on the effect-free servo record 11100024 (ΔFs 34.7 N
+/// on an axis of Fc 35.4 N, a gap of 0.0012 N against a floor of
+/// 0.016 N) and beside `viscous` and `frictional_lag` on the ramps record
+/// 11200049, both clean with 10.13.
 ///
-/// Version 10.14, for the effects [`judged_where_acting`]: a
+/// Why (version 10.14), for the effects [`judged_where_acting`]: a
 /// `dwell_stiction` candidate must lower the held-out rms by
 /// [`required_gain`] (13.5 % above the floor), and over all moving
 /// samples its gain is diluted by the moves it does not touch. On 10.12's
@@ -192,8 +192,9 @@ pub fn judged_where_acting(p: &Prepared, effect: Effect, with: &Model) -> bool {
 /// 10500000– and 10700000–, six records with `dwell_stiction` hidden
 /// ended with it as the best rejected candidate, removing the whole gap
 /// with a held-out ΔBIC of −112 to −8766, turned away by that gain alone
-/// (4.1–10.5 %). The share of the gap, the BIC, the visibility and the
-/// spread of the rests are still asked as before.
+/// (4.1–10.5 %). The share of the gap, the BIC and the visibility are
+/// still asked as before, the spread of the rests more strictly
+/// ([`MIN_LOCAL_DWELL_SPREAD`]).
 pub fn gain_where_acting(p: &Prepared, without: &Model, with: &Model, floor: f64) -> f64 {
     let noise = p.sigma0 / p.kernel_norm();
     let (f0, f1) = (p.friction(without), p.friction(with));
