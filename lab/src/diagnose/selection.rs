@@ -41,10 +41,14 @@ pub const MIN_VISIBILITY: f64 = 2.0;
 /// pass [`required_gain`] for three parameters.
 pub const MIN_DWELL_VISIBILITY: f64 = 1.0;
 
-/// The least [`visibility`] at which `effect` may be named.
-pub fn min_visibility(effect: Effect) -> f64 {
+/// Whether `effect`'s force acts only in the moves that follow a rest,
+/// and only while they are slow (`dwell_stiction`), so that any figure
+/// over all moving samples dilutes it: its [`min_visibility`] is lower,
+/// and it may be judged on its gain where it acts
+/// ([`judged_where_acting`]).
+pub fn acts_after_rests(effect: Effect) -> bool {
     match effect {
-        Effect::DwellStiction => MIN_DWELL_VISIBILITY,
+        Effect::DwellStiction => true,
         Effect::Viscous
         | Effect::NonlinearViscous
         | Effect::Offset
@@ -53,7 +57,16 @@ pub fn min_visibility(effect: Effect) -> f64 {
         | Effect::FrictionalLag
         | Effect::Drift
         | Effect::Stribeck
-        | Effect::Presliding => MIN_VISIBILITY,
+        | Effect::Presliding => false,
+    }
+}
+
+/// The least [`visibility`] at which `effect` may be named.
+pub fn min_visibility(effect: Effect) -> f64 {
+    if acts_after_rests(effect) {
+        MIN_DWELL_VISIBILITY
+    } else {
+        MIN_VISIBILITY
     }
 }
 
@@ -150,18 +163,7 @@ pub const MIN_LOCAL_DWELL_SPREAD: f64 = 0.3;
 /// move that follows a rest, and is judged so where the rest length
 /// decides its raise ([`MIN_LOCAL_DWELL_SPREAD`]).
 pub fn judged_where_acting(p: &Prepared, effect: Effect, with: &Model) -> bool {
-    match effect {
-        Effect::DwellStiction => dwell_spread(p, with) >= MIN_LOCAL_DWELL_SPREAD,
-        Effect::Viscous
-        | Effect::NonlinearViscous
-        | Effect::Offset
-        | Effect::Asymmetry
-        | Effect::PositionRipple
-        | Effect::FrictionalLag
-        | Effect::Drift
-        | Effect::Stribeck
-        | Effect::Presliding => false,
-    }
+    acts_after_rests(effect) && dwell_spread(p, with) >= MIN_LOCAL_DWELL_SPREAD
 }
 
 /// [`gain_above_floor`] from `without` to `with` (two models, the second
