@@ -11,6 +11,12 @@
 //! sample, it is reached; compared peak against peak, the measurement says
 //! which of the two models is right.
 //!
+//! Where the force rises as a ramp up to the break-away (an open-loop
+//! force ramp, or a servo winding up against a stuck axis), its peak is
+//! the break-away level itself; pairs of such ramps in opposite
+//! directions at one force rate are compared instead ([`compare`],
+//! version 10.16).
+//!
 //! For each departure `k` (a reversal of the measured motion, or its
 //! start after a rest) the peak of the measured friction `d·(W*ū − m·â)`
 //! in the window where the axis breaks away is `y_k`, the peaks of the two
@@ -119,6 +125,9 @@ pub fn departures(p: &Prepared, speed: f64) -> Vec<Departure> {
 pub struct Verdict {
     /// Departures compared (both directions).
     pub departures: usize,
+    /// Pairs of ramp peaks compared ([`ramp_pairs`]; 0 where every
+    /// departure's filtered peak was compared).
+    pub ramp_pairs: usize,
     /// Share of the models' peak difference the measured peaks follow:
     /// 0 the current model, 1 the alternative.
     pub lambda: f64,
@@ -152,15 +161,188 @@ pub fn judgeable(p: &Prepared, current: &Model) -> Option<Vec<Departure>> {
     (per_direction(1.0) >= MIN_DEPARTURES && per_direction(-1.0) >= MIN_DEPARTURES).then_some(deps)
 }
 
+/// Length [s] of the stretch before a departure's force peak over which
+/// the applied force must rise as a ramp ([`ramp_peak`]).
+pub const RAMP_SPAN: f64 = 0.1;
+
+/// Largest rms deviation of the applied force from a straight line over
+/// [`RAMP_SPAN`], as a share of the line's rise, for the rise to count as
+/// a ramp.
+pub const RAMP_LINEARITY: f64 = 0.05;
+
+/// Least rise of the applied force over [`RAMP_SPAN`], as a share of the
+/// peak, for the rise to count as a ramp (a held force is no ramp).
+pub const RAMP_MIN_RISE: f64 = 0.05;
+
+/// Where the applied force of departure `d` rises as a ramp to a peak
+/// and falls from it, the sample of the peak and the ramp's rate [N/s]: the largest `d·ū` in the
+/// window is also the largest within [`RAMP_SPAN`] before it and a third
+/// of that after it, and over [`RAMP_SPAN`] before it `d·ū` follows a
+/// straight line to within [`RAMP_LINEARITY`] of its rise, which is at
+/// least [`RAMP_MIN_RISE`] of the peak. `None` otherwise.
+///
+/// At such a peak the force was not the loop's reaction to the motion:
+/// it rose steadily while the axis held, up to where the axis let go, so
+/// the peak is the break-away level itself, to the force noise (an
+/// open-loop force ramp, or a servo's integrator winding up against a
+/// stuck axis).
+pub fn ramp_peak(p: &Prepared, d: &Departure) -> Option<(usize, f64)> {
+    let n = (RAMP_SPAN / p.dt).round() as usize;
+    let force = |i: usize| d.direction * p.u_mid[i];
+    // The window closes as the axis reaches speed, a few samples before
+    // the force turns: the peak is looked for a third of the span beyond.
+    let last = (d.end + n / 3).min(p.len());
+    let peak = (d.start..last).max_by(|&a, &b| force(a).total_cmp(&force(b)))?;
+    let (first, after) = (peak.checked_sub(n)?, (peak + n / 3).min(p.len() - 1));
+    let top = force(peak);
+    if (first..=after).any(|i| force(i) > top) || top <= 0.0 {
+        return None;
+    }
+    // Least-squares line of d·ū over the span, against the sample index.
+    let m = (n + 1) as f64;
+    let (mut sx, mut sy) = (0.0, 0.0);
+    for (k, i) in (first..=peak).enumerate() {
+        sx += k as f64;
+        sy += force(i);
+    }
+    let (mx, my) = (sx / m, sy / m);
+    let (mut sxx, mut sxy) = (0.0, 0.0);
+    for (k, i) in (first..=peak).enumerate() {
+        let dx = k as f64 - mx;
+        sxx += dx * dx;
+        sxy += dx * (force(i) - my);
+    }
+    let slope = sxy / sxx;
+    let rise = slope * n as f64;
+    let deviation = ((first..=peak)
+        .enumerate()
+        .map(|(k, i)| (force(i) - my - slope * (k as f64 - mx)).powi(2))
+        .sum::<f64>()
+        / m)
+        .sqrt();
+    (rise >= RAMP_MIN_RISE * top && deviation <= RAMP_LINEARITY * rise)
+        .then_some((peak, slope / p.dt))
+}
+
+/// The break-away level [N] model `m` gives direction `d` (±1) at sample
+/// `i` for a symmetric level `level` [N]: `level` scaled by the
+/// direction's asymmetry and the drift at the sample's time, plus, in
+/// that direction, the offset and the ripple at its position (MODEL.md
+/// §5). The dwell raise and the lag are left out: the two models of a
+/// look-alike pair share them.
+pub fn breakaway_level(p: &Prepared, m: &Model, level: f64, d: f64, i: usize) -> f64 {
+    let e = &m.effects;
+    let a = e.asymmetry.map_or(0.0, |s| s.a);
+    let beta = e.drift.map_or(0.0, |s| s.beta);
+    let f0 = e.offset.map_or(0.0, |o| o.f0);
+    let ripple = e.position_ripple.map_or(0.0, |r| {
+        r.amplitude * (2.0 * std::f64::consts::PI * p.x[i] / r.wavelength + r.phase).sin()
+    });
+    level * (1.0 + a * d) * (1.0 + beta * (p.t[i] - p.t[0])) + d * (f0 + ripple)
+}
+
+/// Fewest rate-matched pairs of ramp peaks ([`ramp_pairs`]) for the
+/// channel to compare on them.
+pub const MIN_RAMP_PAIRS: usize = 3;
+
+/// Largest ratio between the force rates of a pair's two ramps.
+pub const PAIR_RATE_RATIO: f64 = 1.5;
+
+/// A departure whose force rose as a ramp ([`ramp_peak`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ramp {
+    /// Direction of the departure (±1).
+    pub direction: f64,
+    /// Sample of the force peak.
+    pub peak: usize,
+    /// Rate of the force's rise [N/s].
+    pub rate: f64,
+}
+
+/// Pairs of `ramps` in opposite directions at about the same force rate
+/// (within [`PAIR_RATE_RATIO`]), each ramp in one pair at most, the
+/// closest rates first: `(index of the + ramp, index of the − ramp)`.
+/// The level at which an axis breaks away depends on the force rate
+/// (MODEL.md §4); two ramps at one rate share it, so their difference is
+/// the directions' difference alone.
+pub fn ramp_pairs(ramps: &[Ramp]) -> Vec<(usize, usize)> {
+    let mut candidates: Vec<(f64, usize, usize)> = Vec::new();
+    for (i, up) in ramps.iter().enumerate().filter(|(_, r)| r.direction > 0.0) {
+        for (j, down) in ramps.iter().enumerate().filter(|(_, r)| r.direction < 0.0) {
+            let ratio = (up.rate / down.rate).ln().abs();
+            if ratio <= PAIR_RATE_RATIO.ln() {
+                candidates.push((ratio, i, j));
+            }
+        }
+    }
+    candidates.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut used = vec![false; ramps.len()];
+    let mut pairs = Vec::new();
+    for (_, i, j) in candidates {
+        if !used[i] && !used[j] {
+            used[i] = true;
+            used[j] = true;
+            pairs.push((i, j));
+        }
+    }
+    pairs
+}
+
 /// Compares `current` with `alternative` at the departures `deps` (from
 /// [`judgeable`]); `None` where the two models' peaks do not differ
 /// between the directions.
+///
+/// Where [`MIN_RAMP_PAIRS`] or more pairs of departures rise as ramps to
+/// their peaks ([`ramp_peak`]) at matched force rates ([`ramp_pairs`]),
+/// those pairs alone are compared. Each ramp's measured peak `d·ū − m·â`
+/// at its sample is the break-away level itself (the models' friction
+/// along the measured motion is re-anchored at the measured force while
+/// the axis holds, so there it would only repeat the measurement); the
+/// pair's difference `y⁺ − y⁻` is compared with each model's difference
+/// of break-away levels ([`breakaway_level`]) at the pair's mean level,
+/// `λ` the least-squares share of the alternative's difference that the
+/// measured ones follow. The level at which an axis breaks away lies
+/// below `Fs` by what the force rate and the presliding dynamics take
+/// off (MODEL.md §4), alike in both directions at one rate: what the
+/// pairs tell is whether the shift between the directions is the sliding
+/// one (`offset`) or grows with the level (`asymmetry`). Otherwise every
+/// departure is compared, peak of the filtered measured friction against
+/// peak of each model's filtered friction, by the means of each
+/// direction.
 pub fn compare(
     p: &Prepared,
     deps: &[Departure],
     current: &Model,
     alternative: &Model,
 ) -> Option<Verdict> {
+    let ramps: Vec<Ramp> = deps
+        .iter()
+        .filter_map(|d| {
+            ramp_peak(p, d).map(|(peak, rate)| Ramp {
+                direction: d.direction,
+                peak,
+                rate,
+            })
+        })
+        .collect();
+    let pairs = ramp_pairs(&ramps);
+    if pairs.len() >= MIN_RAMP_PAIRS {
+        let measured = |r: &Ramp| r.direction * (p.u_mid[r.peak] - current.mass * p.a[r.peak]);
+        let diffs: Vec<[f64; 3]> = pairs
+            .iter()
+            .map(|&(i, j)| {
+                let (up, down) = (&ramps[i], &ramps[j]);
+                let (y_up, y_down) = (measured(up), measured(down));
+                let level = 0.5 * (y_up + y_down);
+                let model = |m: &Model| {
+                    breakaway_level(p, m, level, 1.0, up.peak)
+                        - breakaway_level(p, m, level, -1.0, down.peak)
+                };
+                [y_up - y_down, model(current), model(alternative)]
+            })
+            .collect();
+        return paired_verdict(&diffs);
+    }
     let measured = p.measured_friction(current.mass);
     let cur = p.filter_all(&p.friction(current));
     let alt = p.filter_all(&p.friction(alternative));
@@ -196,8 +378,36 @@ pub fn compare(
     }
     Some(Verdict {
         departures: deps.len(),
+        ramp_pairs: 0,
         lambda: (y_up - y_down) / gap,
         se: (v_up + v_down).sqrt() / gap.abs(),
+    })
+}
+
+/// `λ` and its standard error from the pairs' differences `[measured,
+/// current model, alternative]` [N]: the least-squares fit of
+/// `y − c = λ·(a − c)` over the pairs, its standard error from the
+/// scatter about it.
+fn paired_verdict(diffs: &[[f64; 3]]) -> Option<Verdict> {
+    let (mut eg, mut gg) = (0.0, 0.0);
+    for [y, c, a] in diffs {
+        eg += (y - c) * (a - c);
+        gg += (a - c) * (a - c);
+    }
+    if !(gg > 0.0 && gg.is_finite()) {
+        return None;
+    }
+    let lambda = eg / gg;
+    let scatter: f64 = diffs
+        .iter()
+        .map(|[y, c, a]| (y - c - lambda * (a - c)).powi(2))
+        .sum::<f64>()
+        / (diffs.len() - 1) as f64;
+    Some(Verdict {
+        departures: 2 * diffs.len(),
+        ramp_pairs: diffs.len(),
+        lambda,
+        se: (scatter / gg).sqrt(),
     })
 }
 
@@ -252,6 +462,7 @@ mod tests {
     fn peaks_that_follow_neither_model_decide_nothing() {
         let verdict = |lambda, se| Verdict {
             departures: 18,
+            ramp_pairs: 0,
             lambda,
             se,
         };
@@ -264,6 +475,109 @@ mod tests {
         // Within three standard errors of 1: decided for the alternative.
         assert_eq!(verdict(1.25, 0.1).decided(), Some(true));
         assert_eq!(verdict(1.35, 0.1).decided(), None);
+    }
+
+    /// Ramps pair across the directions by their force rate, the
+    /// closest first, each once; a rate with no partner within
+    /// [`PAIR_RATE_RATIO`] stays alone.
+    #[test]
+    fn ramps_pair_by_force_rate() {
+        let ramp = |direction, rate| Ramp {
+            direction,
+            peak: 0,
+            rate,
+        };
+        let ramps = [
+            ramp(1.0, 10.0),
+            ramp(1.0, 30.0),
+            ramp(1.0, 90.0),
+            ramp(-1.0, 11.0),
+            ramp(-1.0, 85.0),
+            ramp(-1.0, 29.0),
+            ramp(-1.0, 200.0),
+        ];
+        let mut pairs = ramp_pairs(&ramps);
+        pairs.sort_unstable();
+        assert_eq!(pairs, [(0, 3), (1, 5), (2, 4)]);
+    }
+
+    /// A force that rises as a straight line while the axis holds, then
+    /// falls as it lets go, has its peak found at the top, with the
+    /// ramp's rate; a force held flat before the same fall, and one that
+    /// rings as it rises (a loop's reaction), are no ramps.
+    #[test]
+    fn a_ramp_peak_is_the_top_of_a_straight_rise() {
+        let dt = 1e-3;
+        let rec0 = record(3000, dt, |t| if t < 2.0 { 0.0 } else { (t - 2.0) * 1e-2 });
+        let with_force = |f: &dyn Fn(f64) -> f64| {
+            let u = rec0.t.iter().map(|&t| f(t)).collect();
+            prepared(&crate::data::Record { u, ..rec0.clone() })
+        };
+        let window = Departure {
+            start: 1000,
+            end: 2050,
+            direction: 1.0,
+        };
+        // 5 N/s from t = 1 s to 2 s, then the force drops to 1 N.
+        let ramp = with_force(&|t| {
+            if t < 1.0 {
+                0.0
+            } else if t < 2.0 {
+                5.0 * (t - 1.0)
+            } else {
+                1.0
+            }
+        });
+        let (peak, rate) = ramp_peak(&ramp, &window).expect("a ramp");
+        assert!(
+            (ramp.t[peak] - 2.0).abs() < 2e-3,
+            "peak at {}",
+            ramp.t[peak]
+        );
+        assert!((rate - 5.0).abs() < 0.05, "rate {rate}");
+        let held = with_force(&|t| if t < 2.0 { 5.0 } else { 1.0 });
+        assert_eq!(ramp_peak(&held, &window), None);
+        let ringing = with_force(&|t| {
+            if t < 1.0 {
+                0.0
+            } else if t < 2.0 {
+                5.0 * (t - 1.0) + 0.3 * (2.0 * PI * 40.0 * t).sin()
+            } else {
+                1.0
+            }
+        });
+        assert_eq!(ramp_peak(&ringing, &window), None);
+    }
+
+    /// Pairs of ramp peaks made by an asymmetric axis (each pair at its
+    /// own break-away level, the directions' levels `L·(1 ± a)`) follow
+    /// the asymmetry against the offset of the same sliding shift
+    /// (`F0 = a·Fc`), λ = 1 with no scatter; made by the offset, λ = 0.
+    #[test]
+    fn paired_peaks_follow_the_model_that_made_them() {
+        let p = prepared(&record(100, 1e-3, |_| 0.0));
+        let (asymmetric, shifted) = (model(true), model(false));
+        let diffs = |truth: &Model, current: &Model, alternative: &Model| -> Vec<[f64; 3]> {
+            [2.2, 2.6, 2.9]
+                .into_iter()
+                .map(|level| {
+                    let d = |m: &Model| {
+                        breakaway_level(&p, m, level, 1.0, 10)
+                            - breakaway_level(&p, m, level, -1.0, 20)
+                    };
+                    [d(truth), d(current), d(alternative)]
+                })
+                .collect()
+        };
+        let v = paired_verdict(&diffs(&asymmetric, &shifted, &asymmetric)).expect("a verdict");
+        assert!((v.lambda - 1.0).abs() < 1e-9 && v.se < 1e-9, "{v:?}");
+        assert_eq!(
+            (v.decided(), v.ramp_pairs, v.departures),
+            (Some(true), 3, 6)
+        );
+        let v = paired_verdict(&diffs(&shifted, &shifted, &asymmetric)).expect("a verdict");
+        assert!(v.lambda.abs() < 1e-9, "{v:?}");
+        assert_eq!(v.decided(), Some(false));
     }
 
     /// One window per reversal of the sinusoid, alternating in

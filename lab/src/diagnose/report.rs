@@ -148,7 +148,7 @@ pub fn report_json(rep: &Report) -> String {
         "regimes": rep.regimes.iter().map(|r| json!({"regime": r.regime, "n": r.n, "rms": r.rms})).collect::<Vec<_>>(),
         "signals": rep.signals.iter().map(|(n, f)| json!({"signal": n, "explained": f})).collect::<Vec<_>>(),
         "steps": steps,
-        "at_breakaways": rep.at_breakaways.iter().map(|(a, b, v)| json!({"effect": a.name(), "look_alike": b.name(), "departures": v.departures, "lambda": v.lambda, "se": v.se, "decided": v.decided().map(|alt| if alt { b.name() } else { a.name() })})).collect::<Vec<_>>(),
+        "at_breakaways": rep.at_breakaways.iter().map(|(a, b, v)| json!({"effect": a.name(), "look_alike": b.name(), "departures": v.departures, "ramp_pairs": v.ramp_pairs, "lambda": v.lambda, "se": v.se, "decided": v.decided().map(|alt| if alt { b.name() } else { a.name() })})).collect::<Vec<_>>(),
         "swapped": rep.swapped.iter().map(|(a, b, before, after)| json!({"effect": a.name(), "replaced_by": b.name(), "rms_before": before, "rms_after": after})).collect::<Vec<_>>(),
         "pruned": rep.pruned.iter().map(|(n, without, with)| json!({"effect": n.name(), "rms_without": without, "rms_with": with})).collect::<Vec<_>>(),
         "rejected": candidates_json(rep.last_round.iter().map(Candidate::summary)),

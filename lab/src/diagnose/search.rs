@@ -420,7 +420,9 @@ impl<'a> Search<'a> {
         // Look-alikes at the break-aways: where a named effect has a
         // look-alike the model lacks (`offset`, `asymmetry`), the two are
         // compared peak against peak after each reversal and rest, where the
-        // weights discount the one place they differ (see [`breakaway`]). A
+        // weights discount the one place they differ (see [`breakaway`];
+        // where the force rises as a ramp to the break-away, pairs of such
+        // ramps at one force rate, since version 10.16). A
         // decisive verdict for the look-alike replaces the named effect where
         // the weighted residual does not tell the two apart (model errors
         // within [`TIE_SHARE`] of the step's gap, as the report calls a tie);
