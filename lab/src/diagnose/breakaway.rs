@@ -175,9 +175,10 @@ pub const RAMP_LINEARITY: f64 = 0.05;
 pub const RAMP_MIN_RISE: f64 = 0.05;
 
 /// Where the applied force of departure `d` rises as a ramp to a peak
-/// and falls from it, the sample of the peak and the ramp's rate [N/s]: the largest `d·ū` in the
-/// window is also the largest within [`RAMP_SPAN`] before it and a third
-/// of that after it, and over [`RAMP_SPAN`] before it `d·ū` follows a
+/// and falls from it, the sample of the peak and the ramp's rate [N/s]:
+/// the largest `d·ū` in the window (and a third of [`RAMP_SPAN`] past
+/// it) is also the largest within [`RAMP_SPAN`] before it and a third of
+/// that after it, and over [`RAMP_SPAN`] before it `d·ū` follows a
 /// straight line to within [`RAMP_LINEARITY`] of its rise, which is at
 /// least [`RAMP_MIN_RISE`] of the peak. `None` otherwise.
 ///
