@@ -493,10 +493,14 @@ fn write_step(rep: &Report, k: usize, st: &Step, s: &mut String) {
             None if !v.consistent() => "follow neither model".to_string(),
             None => "do not decide".to_string(),
         };
+        let compared = if v.ramp_pairs > 0 {
+            format!("{} pairs of force ramps at matched rates", v.ramp_pairs)
+        } else {
+            format!("{} departures after reversals and rests", v.departures)
+        };
         let _ = writeln!(
             s,
-            "        at the break-aways ({} departures after reversals and rests) the friction peaks {said}: lambda {} +- {} (0 `{a}`, 1 `{b}`)",
-            v.departures,
+            "        at the break-aways ({compared}) the friction peaks {said}: lambda {} +- {} (0 `{a}`, 1 `{b}`)",
             short(v.lambda, 3),
             short(v.se, 2)
         );
