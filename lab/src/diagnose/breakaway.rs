@@ -199,14 +199,10 @@ pub fn ramp_peak(p: &Prepared, d: &Departure) -> Option<(usize, f64)> {
     if (first..=after).any(|i| force(i) > top) || top <= 0.0 {
         return None;
     }
-    // Least-squares line of d·ū over the span, against the sample index.
+    // Least-squares line of d·ū over the span, against the sample index
+    // (k = 0…n, mean n/2).
     let m = (n + 1) as f64;
-    let (mut sx, mut sy) = (0.0, 0.0);
-    for (k, i) in (first..=peak).enumerate() {
-        sx += k as f64;
-        sy += force(i);
-    }
-    let (mx, my) = (sx / m, sy / m);
+    let (mx, my) = (n as f64 / 2.0, (first..=peak).map(force).sum::<f64>() / m);
     let (mut sxx, mut sxy) = (0.0, 0.0);
     for (k, i) in (first..=peak).enumerate() {
         let dx = k as f64 - mx;
@@ -232,14 +228,9 @@ pub fn ramp_peak(p: &Prepared, d: &Departure) -> Option<(usize, f64)> {
 /// §5). The dwell raise and the lag are left out: the two models of a
 /// look-alike pair share them.
 pub fn breakaway_level(p: &Prepared, m: &Model, level: f64, d: f64, i: usize) -> f64 {
-    let e = &m.effects;
-    let a = e.asymmetry.map_or(0.0, |s| s.a);
-    let beta = e.drift.map_or(0.0, |s| s.beta);
-    let f0 = e.offset.map_or(0.0, |o| o.f0);
-    let ripple = e.position_ripple.map_or(0.0, |r| {
-        r.amplitude * (2.0 * std::f64::consts::PI * p.x[i] / r.wavelength + r.phase).sin()
-    });
-    level * (1.0 + a * d) * (1.0 + beta * (p.t[i] - p.t[0])) + d * (f0 + ripple)
+    let a = m.effects.asymmetry.map_or(0.0, |s| s.a);
+    let f0 = m.effects.offset.map_or(0.0, |o| o.f0);
+    level * (1.0 + a * d) * super::drift_at(p, m, i) + d * (f0 + super::ripple_at(p, m, i))
 }
 
 /// Fewest rate-matched pairs of ramp peaks ([`ramp_pairs`]) for the

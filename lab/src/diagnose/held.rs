@@ -57,24 +57,34 @@ impl StaticLevel {
     }
 }
 
+/// The ripple force [N] of `m` at sample `i` of `p`, `A·sin(2π·x/λ + φ)`
+/// (0 without `position_ripple`).
+pub fn ripple_at(p: &Prepared, m: &Model, i: usize) -> f64 {
+    m.effects.position_ripple.map_or(0.0, |r| {
+        r.amplitude * (2.0 * PI * p.x[i] / r.wavelength + r.phase).sin()
+    })
+}
+
+/// The drift factor `1 + β·t` [-] of `m` at sample `i` of `p`, `t` from
+/// the record's start, as the walk's `Friction` counts it (1 without
+/// `drift`).
+pub fn drift_at(p: &Prepared, m: &Model, i: usize) -> f64 {
+    let beta = m.effects.drift.map_or(0.0, |d| d.beta);
+    1.0 + beta * (p.t[i] - p.t[0])
+}
+
 /// The held levels of `m` on `p` (see [`StaticLevel::held`]).
 pub fn held_levels(p: &Prepared, m: &Model) -> [f64; 2] {
     let measured = p.measured_friction(m.mass);
     let e = &m.effects;
     let f0 = e.offset.map_or(0.0, |o| o.f0);
     let a = e.asymmetry.map_or(0.0, |s| s.a);
-    let beta = e.drift.map_or(0.0, |d| d.beta);
     let dwell = e.dwell_stiction.map_or(0.0, |d| d.delta_fs);
     let margin = HELD_MARGIN_SIGMAS * p.sigma0;
     let mut held = [f64::NEG_INFINITY; 2];
     for i in p.valid().filter(|&i| p.still[i]) {
-        let ripple = e.position_ripple.map_or(0.0, |r| {
-            r.amplitude * (2.0 * PI * p.x[i] / r.wavelength + r.phase).sin()
-        });
-        let friction = measured[i] - f0 - ripple;
-        // Drift's time from the record's start, as the walk's `Friction`
-        // counts it.
-        let drift = 1.0 + beta * (p.t[i] - p.t[0]);
+        let friction = measured[i] - f0 - ripple_at(p, m, i);
+        let drift = drift_at(p, m, i);
         for (k, d) in [1.0, -1.0].into_iter().enumerate() {
             let sc = (1.0 + a * d) * drift;
             if sc > 0.0 {
