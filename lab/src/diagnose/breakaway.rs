@@ -125,7 +125,7 @@ pub fn departures(p: &Prepared, speed: f64) -> Vec<Departure> {
 pub struct Verdict {
     /// Departures compared (both directions).
     pub departures: usize,
-    /// Pairs of ramp peaks compared ([`ramp_pairs`]; 0 where every
+    /// Pairs of ramp break-aways compared ([`ramp_pairs`]; 0 where every
     /// departure's filtered peak was compared).
     pub ramp_pairs: usize,
     /// Share of the models' peak difference the measured peaks follow:
@@ -158,11 +158,13 @@ impl Verdict {
 pub fn judgeable(p: &Prepared, current: &Model) -> Option<Vec<Departure>> {
     let deps = departures(p, WINDOW_SPEED * current.v_stribeck);
     let per_direction = |s: f64| deps.iter().filter(|d| d.direction == s).count();
-    (per_direction(1.0) >= MIN_DEPARTURES && per_direction(-1.0) >= MIN_DEPARTURES).then_some(deps)
+    let by_departures =
+        per_direction(1.0) >= MIN_DEPARTURES && per_direction(-1.0) >= MIN_DEPARTURES;
+    (by_departures || ramp_pairs(&ramps(p)).len() >= MIN_RAMP_PAIRS).then_some(deps)
 }
 
 /// Length [s] of the stretch before a departure's force peak over which
-/// the applied force must rise as a ramp ([`ramp_peak`]).
+/// the applied force must rise as a ramp ([`ramps`]).
 pub const RAMP_SPAN: f64 = 0.1;
 
 /// Largest rms deviation of the applied force from a straight line over
@@ -174,51 +176,78 @@ pub const RAMP_LINEARITY: f64 = 0.05;
 /// peak, for the rise to count as a ramp (a held force is no ramp).
 pub const RAMP_MIN_RISE: f64 = 0.05;
 
-/// Where the applied force of departure `d` rises as a ramp to a peak
-/// and falls from it, the sample of the peak and the ramp's rate [N/s]:
-/// the largest `d·ū` in the window (and a third of [`RAMP_SPAN`] past
-/// it) is also the largest within [`RAMP_SPAN`] before it and a third of
-/// that after it, and over [`RAMP_SPAN`] before it `d·ū` follows a
-/// straight line to within [`RAMP_LINEARITY`] of its rise, which is at
-/// least [`RAMP_MIN_RISE`] of the peak. `None` otherwise.
+/// Least travel [encoder counts] of the axis in the force's direction
+/// within [`RAMP_SPAN`] after a ramp's peak: the axis let go there.
+pub const RAMP_MIN_TRAVEL: f64 = 5.0;
+
+/// The ramp break-aways of the record: every sample `i` where the applied
+/// force in its own direction `d = sgn ū_i` rises as a ramp to a peak
+/// and the axis lets go ([`ramp_at`]), the next looked for a third of
+/// [`RAMP_SPAN`] later.
 ///
 /// At such a peak the force was not the loop's reaction to the motion:
 /// it rose steadily while the axis held, up to where the axis let go, so
 /// the peak is the break-away level itself, to the force noise (an
 /// open-loop force ramp, or a servo's integrator winding up against a
-/// stuck axis).
-pub fn ramp_peak(p: &Prepared, d: &Departure) -> Option<(usize, f64)> {
+/// stuck axis). They are found in the force and the counts, not in the
+/// departures' windows ([`departures`]): a ramp that stops as the axis
+/// lets go leaves it too slow for a window to close.
+pub fn ramps(p: &Prepared) -> Vec<Ramp> {
     let n = (RAMP_SPAN / p.dt).round() as usize;
-    let force = |i: usize| d.direction * p.u_mid[i];
-    // The window closes as the axis reaches speed, a few samples before
-    // the force turns: the peak is looked for a third of the span beyond.
-    let last = (d.end + n / 3).min(p.len());
-    let peak = (d.start..last).max_by(|&a, &b| force(a).total_cmp(&force(b)))?;
-    let (first, after) = (peak.checked_sub(n)?, (peak + n / 3).min(p.len() - 1));
-    let top = force(peak);
-    if (first..=after).any(|i| force(i) > top) || top <= 0.0 {
+    let mut out = Vec::new();
+    let valid = p.valid();
+    let mut i = valid.start + n;
+    while i + n < valid.end {
+        let direction = p.u_mid[i].signum();
+        match ramp_at(p, i, direction, n) {
+            Some(rate) => {
+                out.push(Ramp {
+                    direction,
+                    peak: i,
+                    rate,
+                });
+                i += n / 3;
+            }
+            None => i += 1,
+        }
+    }
+    out
+}
+
+/// The rate [N/s] of the ramp that peaks at sample `i` towards `d` (±1),
+/// or `None`: `d·ū` is largest at `i` from `n` samples before it to a
+/// third of that after it, over the `n` samples before it follows a
+/// straight line to within [`RAMP_LINEARITY`] of its rise, which is at
+/// least [`RAMP_MIN_RISE`] of the peak, and within `n` samples after it
+/// the axis travels [`RAMP_MIN_TRAVEL`] counts or more towards `d`.
+fn ramp_at(p: &Prepared, i: usize, d: f64, n: usize) -> Option<f64> {
+    let force = |j: usize| d * p.u_mid[j];
+    let top = force(i);
+    if top <= 0.0 || (i - n..=i + n / 3).any(|j| force(j) > top) {
+        return None;
+    }
+    if d * (p.x[i + n] - p.x[i]) < RAMP_MIN_TRAVEL * p.resolution {
         return None;
     }
     // Least-squares line of d·ū over the span, against the sample index
     // (k = 0…n, mean n/2).
     let m = (n + 1) as f64;
-    let (mx, my) = (n as f64 / 2.0, (first..=peak).map(force).sum::<f64>() / m);
+    let (mx, my) = (n as f64 / 2.0, (i - n..=i).map(force).sum::<f64>() / m);
     let (mut sxx, mut sxy) = (0.0, 0.0);
-    for (k, i) in (first..=peak).enumerate() {
+    for (k, j) in (i - n..=i).enumerate() {
         let dx = k as f64 - mx;
         sxx += dx * dx;
-        sxy += dx * (force(i) - my);
+        sxy += dx * (force(j) - my);
     }
     let slope = sxy / sxx;
     let rise = slope * n as f64;
-    let deviation = ((first..=peak)
+    let deviation = ((i - n..=i)
         .enumerate()
-        .map(|(k, i)| (force(i) - my - slope * (k as f64 - mx)).powi(2))
+        .map(|(k, j)| (force(j) - my - slope * (k as f64 - mx)).powi(2))
         .sum::<f64>()
         / m)
         .sqrt();
-    (rise >= RAMP_MIN_RISE * top && deviation <= RAMP_LINEARITY * rise)
-        .then_some((peak, slope / p.dt))
+    (rise >= RAMP_MIN_RISE * top && deviation <= RAMP_LINEARITY * rise).then_some(slope / p.dt)
 }
 
 /// The break-away level [N] model `m` gives direction `d` (±1) at sample
@@ -233,14 +262,15 @@ pub fn breakaway_level(p: &Prepared, m: &Model, level: f64, d: f64, i: usize) ->
     level * (1.0 + a * d) * super::drift_at(p, m, i) + d * (f0 + super::ripple_at(p, m, i))
 }
 
-/// Fewest rate-matched pairs of ramp peaks ([`ramp_pairs`]) for the
-/// channel to compare on them.
+/// Fewest rate-matched pairs of ramp break-aways ([`ramp_pairs`]) for
+/// the channel to compare on them (and, without departures enough, to
+/// judge at all: [`judgeable`]).
 pub const MIN_RAMP_PAIRS: usize = 3;
 
 /// Largest ratio between the force rates of a pair's two ramps.
 pub const PAIR_RATE_RATIO: f64 = 1.5;
 
-/// A departure whose force rose as a ramp ([`ramp_peak`]).
+/// A break-away at the top of a force ramp ([`ramps`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Ramp {
     /// Direction of the departure (±1).
@@ -284,9 +314,9 @@ pub fn ramp_pairs(ramps: &[Ramp]) -> Vec<(usize, usize)> {
 /// [`judgeable`]); `None` where the two models' peaks do not differ
 /// between the directions.
 ///
-/// Where [`MIN_RAMP_PAIRS`] or more pairs of departures rise as ramps to
-/// their peaks ([`ramp_peak`]) at matched force rates ([`ramp_pairs`]),
-/// those pairs alone are compared. Each ramp's measured peak `d·ū − m·â`
+/// Where the record holds [`MIN_RAMP_PAIRS`] or more pairs of ramp
+/// break-aways ([`ramps`]) at matched force rates ([`ramp_pairs`]), those
+/// pairs alone are compared. Each ramp's measured peak `d·ū − m·â`
 /// at its sample is the break-away level itself (the models' friction
 /// along the measured motion is re-anchored at the measured force while
 /// the axis holds, so there it would only repeat the measurement); the
@@ -307,16 +337,7 @@ pub fn compare(
     current: &Model,
     alternative: &Model,
 ) -> Option<Verdict> {
-    let ramps: Vec<Ramp> = deps
-        .iter()
-        .filter_map(|d| {
-            ramp_peak(p, d).map(|(peak, rate)| Ramp {
-                direction: d.direction,
-                peak,
-                rate,
-            })
-        })
-        .collect();
+    let ramps = ramps(p);
     let pairs = ramp_pairs(&ramps);
     if pairs.len() >= MIN_RAMP_PAIRS {
         let measured = |r: &Ramp| r.direction * (p.u_mid[r.peak] - current.mass * p.a[r.peak]);
@@ -494,24 +515,20 @@ mod tests {
     }
 
     /// A force that rises as a straight line while the axis holds, then
-    /// falls as it lets go, has its peak found at the top, with the
-    /// ramp's rate; a force held flat before the same fall, and one that
-    /// rings as it rises (a loop's reaction), are no ramps.
+    /// falls as it lets go, is one ramp break-away, found at the top with
+    /// the ramp's rate; a force held flat before the same fall, one that
+    /// rings as it rises (a loop's reaction), and a ramp after which the
+    /// axis stays put are none.
     #[test]
-    fn a_ramp_peak_is_the_top_of_a_straight_rise() {
+    fn a_ramp_breakaway_is_the_top_of_a_straight_rise() {
         let dt = 1e-3;
-        let rec0 = record(3000, dt, |t| if t < 2.0 { 0.0 } else { (t - 2.0) * 1e-2 });
-        let with_force = |f: &dyn Fn(f64) -> f64| {
+        let moving = record(3000, dt, |t| if t < 2.0 { 0.0 } else { (t - 2.0) * 1e-2 });
+        let with_force = |rec0: &crate::data::Record, f: &dyn Fn(f64) -> f64| {
             let u = rec0.t.iter().map(|&t| f(t)).collect();
             prepared(&crate::data::Record { u, ..rec0.clone() })
         };
-        let window = Departure {
-            start: 1000,
-            end: 2050,
-            direction: 1.0,
-        };
         // 5 N/s from t = 1 s to 2 s, then the force drops to 1 N.
-        let ramp = with_force(&|t| {
+        let ramp = |t: f64| {
             if t < 1.0 {
                 0.0
             } else if t < 2.0 {
@@ -519,29 +536,22 @@ mod tests {
             } else {
                 1.0
             }
-        });
-        let (peak, rate) = ramp_peak(&ramp, &window).expect("a ramp");
-        assert!(
-            (ramp.t[peak] - 2.0).abs() < 2e-3,
-            "peak at {}",
-            ramp.t[peak]
-        );
-        assert!((rate - 5.0).abs() < 0.05, "rate {rate}");
-        let held = with_force(&|t| if t < 2.0 { 5.0 } else { 1.0 });
-        assert_eq!(ramp_peak(&held, &window), None);
-        let ringing = with_force(&|t| {
-            if t < 1.0 {
-                0.0
-            } else if t < 2.0 {
-                5.0 * (t - 1.0) + 0.3 * (2.0 * PI * 40.0 * t).sin()
-            } else {
-                1.0
-            }
-        });
-        assert_eq!(ramp_peak(&ringing, &window), None);
+        };
+        let p = with_force(&moving, &ramp);
+        let found = ramps(&p);
+        assert_eq!(found.len(), 1, "{found:?}");
+        let r = found[0];
+        assert!((p.t[r.peak] - 2.0).abs() < 2e-3, "peak at {}", p.t[r.peak]);
+        assert!((r.rate - 5.0).abs() < 0.05 && r.direction == 1.0, "{r:?}");
+        let held = with_force(&moving, &|t| if t < 2.0 { 5.0 } else { 1.0 });
+        assert_eq!(ramps(&held), []);
+        let ringing = with_force(&moving, &|t| ramp(t) + 0.3 * (2.0 * PI * 40.0 * t).sin());
+        assert_eq!(ramps(&ringing), []);
+        let still = record(3000, dt, |_| 0.0);
+        assert_eq!(ramps(&with_force(&still, &ramp)), []);
     }
 
-    /// Pairs of ramp peaks made by an asymmetric axis (each pair at its
+    /// Pairs of ramp break-aways made by an asymmetric axis (each pair at its
     /// own break-away level, the directions' levels `L·(1 ± a)`) follow
     /// the asymmetry against the offset of the same sliding shift
     /// (`F0 = a·Fc`), λ = 1 with no scatter; made by the offset, λ = 0.
