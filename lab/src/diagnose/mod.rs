@@ -74,7 +74,7 @@ pub const WORKFLOW_VERSION: &str = workflow_version!();
 /// `concat!`).
 macro_rules! workflow_version {
     () => {
-        "10.16"
+        "10.17"
     };
 }
 use workflow_version;
