@@ -204,7 +204,7 @@ pub const RAMP_MIN_TRAVEL: f64 = 5.0;
 
 /// The ramp break-aways of the record: every sample `i` where the applied
 /// force in its own direction `d = sgn ū_i` rises as a ramp to a peak
-/// and the axis lets go ([`ramp_at`]), the next looked for a third of
+/// and the axis lets go (`ramp_at`), the next looked for a third of
 /// [`RAMP_SPAN`] later.
 ///
 /// At such a peak the force was not the loop's reaction to the motion:
