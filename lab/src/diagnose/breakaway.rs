@@ -161,13 +161,14 @@ impl Verdict {
     /// either model (0 or 1) would decide: `se ≤ ½ / DECISIVE_SE`.
     ///
     /// Asked of ramp pairs (version 10.17): a few pairs that scatter
-    /// widely let a `λ` far from both models pass [`consistent`]
-    /// (Verdict::consistent), whose 3 standard errors are then wide. On
-    /// the development records of 10400000–11500000– the pairs' decisive
-    /// verdicts with a larger error read λ from −7.3 to 68 and were wrong
-    /// 4 times of 19; with a smaller one, right 65 times of 65.
-    /// Departures' verdicts keep the rule of version 8.5: there the
-    /// decisive ones with a larger error were right 7 times of 8.
+    /// widely let a `λ` far from both models pass
+    /// [`consistent`](Verdict::consistent), whose 3 standard errors are
+    /// then wide. On the development records of 10400000–11500000– the
+    /// pairs' decisive verdicts with a larger error read λ from −7.3 to
+    /// 68 and were wrong 5 times of 20; with a smaller one, right 65
+    /// times of 65. Departures' verdicts keep the rule of version 8.5:
+    /// there the decisive ones with a larger error were right 7 times of
+    /// 8.
     pub fn resolves(&self) -> bool {
         self.se <= 0.5 / DECISIVE_SE
     }
