@@ -176,8 +176,9 @@ impl Verdict {
 
 /// The departures on which `current` can be judged (windows to
 /// [`WINDOW_SPEED`] times its `V`), or `None` where fewer than
-/// [`MIN_DEPARTURES`] go either way: checked before the look-alike is
-/// fitted, which is the costly part.
+/// [`MIN_DEPARTURES`] go either way and the record holds fewer than
+/// [`MIN_RAMP_PAIRS`] pairs of ramp break-aways: checked before the
+/// look-alike is fitted, which is the costly part.
 pub fn judgeable(p: &Prepared, current: &Model) -> Option<Vec<Departure>> {
     let deps = departures(p, WINDOW_SPEED * current.v_stribeck);
     let per_direction = |s: f64| deps.iter().filter(|d| d.direction == s).count();
@@ -186,8 +187,8 @@ pub fn judgeable(p: &Prepared, current: &Model) -> Option<Vec<Departure>> {
     (by_departures || ramp_pairs(&ramps(p)).len() >= MIN_RAMP_PAIRS).then_some(deps)
 }
 
-/// Length [s] of the stretch before a departure's force peak over which
-/// the applied force must rise as a ramp ([`ramps`]).
+/// Length [s] of the stretch before a ramp's peak over which the applied
+/// force must rise along a straight line ([`ramps`]).
 pub const RAMP_SPAN: f64 = 0.1;
 
 /// Largest rms deviation of the applied force from a straight line over
