@@ -176,15 +176,15 @@ impl Verdict {
 
 /// The departures on which `current` can be judged (windows to
 /// [`WINDOW_SPEED`] times its `V`), or `None` where fewer than
-/// [`MIN_DEPARTURES`] go either way and the record holds fewer than
-/// [`MIN_RAMP_PAIRS`] pairs of ramp break-aways: checked before the
-/// look-alike is fitted, which is the costly part.
-pub fn judgeable(p: &Prepared, current: &Model) -> Option<Vec<Departure>> {
+/// [`MIN_DEPARTURES`] go either way and the record's ramp break-aways
+/// (`ramps`, [`ramps`] of `p`) make fewer than [`MIN_RAMP_PAIRS`] pairs:
+/// checked before the look-alike is fitted, which is the costly part.
+pub fn judgeable(p: &Prepared, current: &Model, ramps: &[Ramp]) -> Option<Vec<Departure>> {
     let deps = departures(p, WINDOW_SPEED * current.v_stribeck);
     let per_direction = |s: f64| deps.iter().filter(|d| d.direction == s).count();
     let by_departures =
         per_direction(1.0) >= MIN_DEPARTURES && per_direction(-1.0) >= MIN_DEPARTURES;
-    (by_departures || ramp_pairs(&ramps(p)).len() >= MIN_RAMP_PAIRS).then_some(deps)
+    (by_departures || ramp_pairs(ramps).len() >= MIN_RAMP_PAIRS).then_some(deps)
 }
 
 /// Length [s] of the stretch before a ramp's peak over which the applied
@@ -358,11 +358,11 @@ pub fn ramp_pairs(ramps: &[Ramp]) -> Vec<(usize, usize)> {
 pub fn compare(
     p: &Prepared,
     deps: &[Departure],
+    ramps: &[Ramp],
     current: &Model,
     alternative: &Model,
 ) -> Option<Verdict> {
-    let ramps = ramps(p);
-    let pairs = ramp_pairs(&ramps);
+    let pairs = ramp_pairs(ramps);
     if pairs.len() >= MIN_RAMP_PAIRS {
         let measured = |r: &Ramp| r.direction * (p.u_mid[r.peak] - current.mass * p.a[r.peak]);
         let diffs: Vec<[f64; 3]> = pairs
@@ -667,11 +667,12 @@ mod tests {
             .collect();
         let rec = crate::data::Record { u, ..rec0 };
         let p = prepared(&rec);
-        let deps = judgeable(&p, &model(false)).expect("departures both ways");
-        let v = compare(&p, &deps, &model(false), &truth).expect("a verdict");
+        let ramps = ramps(&p);
+        let deps = judgeable(&p, &model(false), &ramps).expect("departures both ways");
+        let v = compare(&p, &deps, &ramps, &model(false), &truth).expect("a verdict");
         assert!((v.lambda - 1.0).abs() < 0.1, "{v:?}");
         assert_eq!(v.decided(), Some(true));
-        let v = compare(&p, &deps, &truth, &model(false)).expect("a verdict");
+        let v = compare(&p, &deps, &ramps, &truth, &model(false)).expect("a verdict");
         assert!(v.lambda.abs() < 0.1, "{v:?}");
         assert_eq!(v.decided(), Some(false));
     }

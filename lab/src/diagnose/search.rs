@@ -430,13 +430,17 @@ impl<'a> Search<'a> {
         // sinusoid of 2700000– whose peaks followed `asymmetry` had a model
         // error of 0.040 N with it against 0.0032 N with `offset`).
         let mut at_breakaways = Vec::new();
+        // The record's ramp break-aways, found once where a step has a
+        // look-alike to compare.
+        let mut ramps = None;
         for step in self.steps.iter_mut().filter(|s| s.joint.is_none()) {
             let effect = step.effect;
             let Some(other) = look_alike(effect).filter(|&o| !fit::has_effect(&self.model, o))
             else {
                 continue;
             };
-            let Some(deps) = breakaway::judgeable(p, &self.model) else {
+            let ramps: &[breakaway::Ramp] = ramps.get_or_insert_with(|| breakaway::ramps(p));
+            let Some(deps) = breakaway::judgeable(p, &self.model, ramps) else {
                 continue;
             };
             show(&format!("break-away check: {effect}"));
@@ -446,7 +450,7 @@ impl<'a> Search<'a> {
             else {
                 continue;
             };
-            let Some(verdict) = breakaway::compare(p, &deps, &self.model, &alt) else {
+            let Some(verdict) = breakaway::compare(p, &deps, ramps, &self.model, &alt) else {
                 continue;
             };
             at_breakaways.push((effect, other, verdict));
