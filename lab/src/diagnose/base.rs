@@ -154,6 +154,18 @@ pub(super) fn typical_speed(p: &Prepared) -> f64 {
     speed_quantile(p, 0.5).unwrap_or(1e-3)
 }
 
+/// The record's top speed [m/s]: the 99 % quantile of `|v̂|` over the
+/// valid samples (1 mm/s where none moves).
+pub(super) fn top_speed(p: &Prepared) -> f64 {
+    let mut v: Vec<f64> = p.valid().map(|i| p.v[i].abs()).collect();
+    let top = quantile(&mut v, 0.99);
+    if top.is_finite() && top > 0.0 {
+        top
+    } else {
+        1e-3
+    }
+}
+
 /// `m`, or the best of its shape [`restarts`] when that has the lower
 /// held-out RMS.
 pub(super) fn restart_dip(p: &Prepared, m: Model, show: &mut dyn FnMut(&str)) -> Model {
@@ -175,14 +187,19 @@ pub(super) fn dip_seeds(p: &Prepared, m: &Model) -> Vec<Model> {
     let v_lo = low_speed(p).unwrap_or(1e-3);
     [1.0, 3.0]
         .into_iter()
-        .map(|vf| {
-            let mut c = m.clone();
-            c.fs = 1.4 * c.fc;
-            c.v_stribeck = vf * v_lo;
-            c.delta = 2.0;
-            c
-        })
+        .map(|vf| dip_seeded(m, vf * v_lo))
         .collect()
+}
+
+/// `m` with its Stribeck dip seeded at `V = v_stribeck` [m/s]:
+/// `Fs = 1.4·Fc`, δ = 2.
+pub(super) fn dip_seeded(m: &Model, v_stribeck: f64) -> Model {
+    Model {
+        fs: 1.4 * m.fc,
+        v_stribeck,
+        delta: 2.0,
+        ..m.clone()
+    }
 }
 
 /// Restarts of the base shape: `V` at 0.3, 1 and 3 times the 20 % speed

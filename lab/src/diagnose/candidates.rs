@@ -483,6 +483,32 @@ pub(super) fn candidate_starts(p: &Prepared, m: &Model, effect: Effect, r: &[f64
     out
 }
 
+/// Stribeck speeds of [`top_speed_starts`], in the record's top speed
+/// ([`top_speed`]).
+pub const TOP_SPEED_SEEDS: [f64; 2] = [1.0, 3.0];
+
+/// The effect's own starts on `m` with the dip seeded at
+/// [`TOP_SPEED_SEEDS`] times the record's top speed: where a `viscous` or
+/// `nonlinear_viscous` fit on a base without a dip ended unsound
+/// (`fit_candidate`).
+///
+/// A velocity strengthening, concave above all, and the Stribeck dip
+/// cancel over the record's speeds where both are missing, and the base
+/// fit then flattens the dip (`Fs = Fc`) or runs it to a bound. The dip
+/// reaches up to where the strengthening takes over, the record's upper
+/// speeds or beyond (a slow record may lie wholly within it), where the
+/// seeds at its low speeds ([`dip_seeds`]) do not lead.
+pub(super) fn top_speed_starts(p: &Prepared, m: &Model, effect: Effect, r: &[f64]) -> Vec<Model> {
+    let top = top_speed(p);
+    let own = effect_starts(p, m, effect, r);
+    let mut out: Vec<Model> = TOP_SPEED_SEEDS
+        .iter()
+        .flat_map(|&f| own.iter().map(move |c| dip_seeded(c, f * top)))
+        .collect();
+    out.retain(|c| c.validate().is_ok());
+    out
+}
+
 /// Each of `starts` at each presliding distance of `counts` [encoder
 /// counts], start by start.
 fn at_distances(p: &Prepared, starts: &[Model], counts: &[f64]) -> Vec<Model> {
