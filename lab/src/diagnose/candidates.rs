@@ -483,8 +483,10 @@ pub(super) fn candidate_starts(p: &Prepared, m: &Model, effect: Effect, r: &[f64
     out
 }
 
-/// Stribeck speeds of [`top_speed_starts`], in the record's top speed
-/// ([`top_speed`]).
+/// Stribeck speeds at which a `viscous` or `nonlinear_viscous` fit that
+/// ended unsound on a base without a dip seeds the dip again
+/// (`top_speed_starts`), in the record's top speed (the 99 % quantile of
+/// `|v̂|`).
 pub const TOP_SPEED_SEEDS: [f64; 2] = [1.0, 3.0];
 
 /// The effect's own starts on `m` with the dip seeded at
