@@ -209,11 +209,10 @@ pub(super) fn restarts(p: &Prepared, m: &Model) -> Vec<Model> {
     let mut out = vec![m.clone()];
     for vf in [0.3, 1.0, 3.0] {
         for delta in [1.0, 2.0] {
-            let mut c = m.clone();
-            c.fs = 1.4 * c.fc;
-            c.v_stribeck = vf * v_lo;
-            c.delta = delta;
-            out.push(c);
+            out.push(Model {
+                delta,
+                ..dip_seeded(m, vf * v_lo)
+            });
         }
     }
     out
